@@ -1,0 +1,193 @@
+//! `SceneDesc`: the renderer-independent, plain-data description of a scene that every importer
+//! produces and the renderer compiles (DESIGN.md section 1). Nothing here refers to render-time
+//! structures. Lengths are in metres (importers apply `units`), directions need not be normalised.
+
+use std::path::PathBuf;
+
+use glam::Vec3;
+use quasar_materials::{Material, spectrum::Spectrum};
+
+/// Where a scene element came from, for error messages and `quasar info`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SourceLocation {
+    /// The file.
+    pub file: PathBuf,
+    /// 1-based line, when known.
+    pub line: Option<usize>,
+    /// A path inside the file (TOML key path, JSON pointer, OBJ group), when known.
+    pub item: Option<String>,
+}
+
+impl std::fmt::Display for SourceLocation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}", self.file.display())?;
+        if let Some(l) = self.line {
+            write!(f, ":{l}")?;
+        }
+        if let Some(i) = &self.item {
+            write!(f, " ({i})")?;
+        }
+        Ok(())
+    }
+}
+
+/// A named material.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MaterialDesc {
+    /// Name (unique within the scene).
+    pub name: String,
+    /// The model and its parameters.
+    pub material: Material,
+    /// Where it was defined.
+    pub source: SourceLocation,
+}
+
+/// Light emitted by a surface: spectral radiance L_e(lambda) = `scale * spectrum(lambda)`,
+/// in W/(sr m^2 nm) when the scene uses absolute units.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EmissionDesc {
+    /// Spectral shape.
+    pub spectrum: Spectrum,
+    /// Multiplier (>= 0, finite).
+    pub scale: f32,
+    /// Emit from both faces; otherwise only towards the side the geometric normal points to
+    /// (normal = (v1 - v0) x (v2 - v0), counter-clockwise winding).
+    pub two_sided: bool,
+}
+
+/// A triangle mesh in world space.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshDesc {
+    /// Name (file/object/group), for messages and overrides.
+    pub name: String,
+    /// Vertex positions (world space, metres).
+    pub positions: Vec<Vec3>,
+    /// Per-vertex shading normals (same length as `positions`), or `None` for flat shading.
+    pub normals: Option<Vec<Vec3>>,
+    /// Triangles as indices into `positions`.
+    pub indices: Vec<[u32; 3]>,
+    /// Index into [`SceneDesc::materials`].
+    pub material: usize,
+    /// Area emission, if the mesh is a light.
+    pub emission: Option<EmissionDesc>,
+    /// Where it was defined.
+    pub source: SourceLocation,
+}
+
+/// A light that is not a surface (area lights are emissive meshes).
+#[derive(Clone, Debug, PartialEq)]
+pub enum LightDesc {
+    /// Isotropic point light: intensity I(lambda) = scale * spectrum, W/(sr nm).
+    Point {
+        /// Position.
+        position: Vec3,
+        /// Spectral shape.
+        spectrum: Spectrum,
+        /// Multiplier.
+        scale: f32,
+    },
+    /// Spot light: point light restricted to a cone, smooth falloff between the two angles.
+    Spot {
+        /// Position.
+        position: Vec3,
+        /// Axis direction.
+        direction: Vec3,
+        /// Half-angle (degrees) where intensity reaches 0.
+        cone_deg: f32,
+        /// Half-angle (degrees) inside which intensity is full (<= cone_deg).
+        falloff_start_deg: f32,
+        /// Spectral shape.
+        spectrum: Spectrum,
+        /// Multiplier (on-axis intensity).
+        scale: f32,
+    },
+    /// Distant light: irradiance E(lambda) = scale * spectrum (W/(m^2 nm)) on a surface facing it.
+    Directional {
+        /// Direction the light travels in.
+        direction: Vec3,
+        /// Spectral shape.
+        spectrum: Spectrum,
+        /// Multiplier.
+        scale: f32,
+    },
+    /// Constant environment: radiance L(lambda) = scale * spectrum from every direction.
+    Environment {
+        /// Spectral shape.
+        spectrum: Spectrum,
+        /// Multiplier.
+        scale: f32,
+    },
+}
+
+/// Which image axis `fov_deg` spans.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum FovAxis {
+    /// Horizontal field of view.
+    X,
+    /// Vertical field of view.
+    #[default]
+    Y,
+}
+
+/// A pinhole perspective camera.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CameraDesc {
+    /// Eye position.
+    pub position: Vec3,
+    /// Point looked at.
+    pub target: Vec3,
+    /// Up hint (image up); must not be parallel to target - position.
+    pub up: Vec3,
+    /// Full field of view in degrees along `fov_axis` (0 < fov < 180).
+    pub fov_deg: f32,
+    /// Axis of `fov_deg`.
+    pub fov_axis: FovAxis,
+}
+
+impl Default for CameraDesc {
+    fn default() -> Self {
+        Self { position: Vec3::new(0.0, 0.0, 5.0), target: Vec3::ZERO, up: Vec3::Y, fov_deg: 40.0, fov_axis: FovAxis::Y }
+    }
+}
+
+/// Render settings a scene may carry (the CLI overrides them).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderSettings {
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// Samples per pixel.
+    pub spp: u32,
+    /// Time budget in seconds (overrides spp when set).
+    pub time_s: Option<f64>,
+    /// Seed of the random streams.
+    pub seed: u64,
+    /// Maximum path depth (None = unbounded, Russian roulette ends paths).
+    pub max_depth: Option<u32>,
+    /// Integration method name ("pt", "auto", ...).
+    pub method: String,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        Self { width: 640, height: 480, spp: 64, time_s: None, seed: 0, max_depth: None, method: "auto".into() }
+    }
+}
+
+/// A whole scene as plain data.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SceneDesc {
+    /// Materials; meshes refer to them by index.
+    pub materials: Vec<MaterialDesc>,
+    /// Triangle meshes (world space).
+    pub meshes: Vec<MeshDesc>,
+    /// Non-surface lights.
+    pub lights: Vec<LightDesc>,
+    /// The camera.
+    pub camera: CameraDesc,
+    /// Render settings from the scene file.
+    pub render: RenderSettings,
+    /// The file the scene was loaded from.
+    pub source: PathBuf,
+}

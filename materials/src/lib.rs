@@ -1,0 +1,14 @@
+//! quasar-materials: spectra, colorimetry and BSDF models.
+//!
+//! A [`Material`] is plain data (spectral parameters) that produces a [`Bsdf`] for the
+//! wavelengths of a path; integrators only call the BSDF's `f`, `sample_f` and `pdf`.
+#![warn(missing_docs)]
+
+pub mod spectrum;
+pub mod bsdf;
+pub mod frame;
+pub mod material;
+
+pub use bsdf::{Bsdf, BsdfSample, Lobe, TransportMode};
+pub use frame::Frame;
+pub use material::{ConductorFresnel, Ior, Material};

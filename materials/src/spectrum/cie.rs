@@ -1,0 +1,79 @@
+//! CIE 1931 2-degree colour-matching functions and standard illuminants, linearly interpolated
+//! from the 5 nm tables in [`cie_data`](super::cie_data).
+
+use super::cie_data::{
+    CIE_D65, CIE_X, CIE_Y, CIE_Z, CMF_LAMBDA_START, D65_LAMBDA_START, TABLE_STEP,
+};
+
+/// Integral of ybar over the tables' range (nm), the sensor's normalisation constant:
+/// a spectrally flat radiance of 1 has Y = 1.
+pub const CIE_Y_INTEGRAL: f32 = 106.857_03;
+
+/// Linear interpolation in a table sampled every `TABLE_STEP` nm from `start`; 0 outside.
+#[inline]
+fn lerp_table(table: &[f32], start: f32, lambda: f32) -> f32 {
+    let x = (lambda - start) / TABLE_STEP;
+    if !(x >= 0.0) || x > (table.len() - 1) as f32 {
+        return 0.0;
+    }
+    let i = (x as usize).min(table.len() - 2);
+    let t = x - i as f32;
+    table[i] * (1.0 - t) + table[i + 1] * t
+}
+
+/// (xbar, ybar, zbar) at `lambda` nm; 0 outside 360..=830 nm.
+#[inline]
+pub fn cmf(lambda: f32) -> [f32; 3] {
+    [
+        lerp_table(&CIE_X, CMF_LAMBDA_START, lambda),
+        lerp_table(&CIE_Y, CMF_LAMBDA_START, lambda),
+        lerp_table(&CIE_Z, CMF_LAMBDA_START, lambda),
+    ]
+}
+
+/// ybar at `lambda` nm (the photopic luminous efficiency V(lambda)).
+#[inline]
+pub fn ybar(lambda: f32) -> f32 {
+    lerp_table(&CIE_Y, CMF_LAMBDA_START, lambda)
+}
+
+/// CIE D65 relative spectral power (100 at 560 nm); 0 outside 300..=830 nm.
+#[inline]
+pub fn d65(lambda: f32) -> f32 {
+    lerp_table(&CIE_D65, D65_LAMBDA_START, lambda)
+}
+
+/// CIE standard illuminant A: Planck's law at 2856 K normalised to 100 at 560 nm (CIE 015 formula for A:
+/// T = 2848 K with c2 = 1.435e7 nm K, i.e. 2856 K on the modern c2 scale).
+pub fn illuminant_a(lambda: f32) -> f32 {
+    let l = lambda as f64;
+    let c2 = 1.435e7_f64;
+    let v = 100.0 * (560.0 / l).powi(5) * ((c2 / (2848.0 * 560.0)).exp() - 1.0)
+        / ((c2 / (2848.0 * l)).exp() - 1.0);
+    v as f32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ybar_integral_matches_constant() {
+        let s: f32 = CIE_Y.iter().sum::<f32>() * TABLE_STEP;
+        assert!((s - CIE_Y_INTEGRAL).abs() / CIE_Y_INTEGRAL < 1e-3, "{s}");
+    }
+
+    #[test]
+    fn illuminant_a_is_100_at_560() {
+        assert!((illuminant_a(560.0) - 100.0).abs() < 1e-3);
+        // CIE 015 tabulates A(400 nm) = 14.708 and A(700 nm) = 198.261.
+        assert!((illuminant_a(400.0) - 14.708).abs() < 0.01, "{}", illuminant_a(400.0));
+        assert!((illuminant_a(700.0) - 198.261).abs() < 0.02, "{}", illuminant_a(700.0));
+    }
+
+    #[test]
+    fn d65_is_100_at_560() {
+        assert!((d65(560.0) - 100.0).abs() < 1e-3);
+        assert_eq!(d65(200.0), 0.0);
+    }
+}

@@ -1,0 +1,12 @@
+//! Spectral model (DESIGN.md section 2): hero-wavelength sampled spectra, spectral curves,
+//! CIE colorimetry and the RGB uplift.
+
+pub mod cie;
+#[rustfmt::skip]
+pub mod cie_data;
+pub mod color;
+pub mod curve;
+pub mod sampled;
+
+pub use curve::{Spectrum, SpectrumError, StandardIlluminant};
+pub use sampled::{LAMBDA_MAX, LAMBDA_MIN, N_SPECTRUM_SAMPLES, SampledSpectrum, SampledWavelengths};

@@ -1,0 +1,340 @@
+//! Spectra sampled at the path's wavelengths (hero-wavelength sampling, Wilkie et al. 2014).
+
+use std::ops::{Add, AddAssign, Div, DivAssign, Index, IndexMut, Mul, MulAssign, Sub};
+
+use super::cie;
+
+/// Number of wavelengths a path carries: one hero wavelength and three equally spaced rotations.
+pub const N_SPECTRUM_SAMPLES: usize = 4;
+/// Shortest wavelength (nm) the renderer simulates.
+pub const LAMBDA_MIN: f32 = 360.0;
+/// Longest wavelength (nm) the renderer simulates.
+pub const LAMBDA_MAX: f32 = 830.0;
+
+/// Values of a spectral quantity at the [`N_SPECTRUM_SAMPLES`] wavelengths of a [`SampledWavelengths`].
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct SampledSpectrum(pub [f32; N_SPECTRUM_SAMPLES]);
+
+impl SampledSpectrum {
+    /// The same value at every wavelength.
+    #[inline]
+    pub const fn splat(v: f32) -> Self {
+        Self([v; N_SPECTRUM_SAMPLES])
+    }
+    /// Zero at every wavelength.
+    #[inline]
+    pub const fn zero() -> Self {
+        Self::splat(0.0)
+    }
+    /// One at every wavelength.
+    #[inline]
+    pub const fn one() -> Self {
+        Self::splat(1.0)
+    }
+    /// True when every value is exactly zero.
+    #[inline]
+    pub fn is_black(&self) -> bool {
+        self.0.iter().all(|&v| v == 0.0)
+    }
+    /// True when every value is finite (no NaN, no infinity).
+    #[inline]
+    pub fn is_finite(&self) -> bool {
+        self.0.iter().all(|v| v.is_finite())
+    }
+    /// Largest value.
+    #[inline]
+    pub fn max_component(&self) -> f32 {
+        self.0.iter().copied().fold(f32::NEG_INFINITY, f32::max)
+    }
+    /// Smallest value.
+    #[inline]
+    pub fn min_component(&self) -> f32 {
+        self.0.iter().copied().fold(f32::INFINITY, f32::min)
+    }
+    /// Arithmetic mean of the values.
+    #[inline]
+    pub fn average(&self) -> f32 {
+        self.0.iter().sum::<f32>() / N_SPECTRUM_SAMPLES as f32
+    }
+    /// Applies `f` to every value.
+    #[inline]
+    pub fn map(self, f: impl Fn(f32) -> f32) -> Self {
+        Self(self.0.map(f))
+    }
+    /// Division that yields 0 where the divisor is 0 (pbrt's `SafeDiv`).
+    #[inline]
+    pub fn safe_div(self, d: Self) -> Self {
+        let mut r = self;
+        for i in 0..N_SPECTRUM_SAMPLES {
+            r.0[i] = if d.0[i] != 0.0 { self.0[i] / d.0[i] } else { 0.0 };
+        }
+        r
+    }
+    /// Component-wise square root.
+    #[inline]
+    pub fn sqrt(self) -> Self {
+        self.map(f32::sqrt)
+    }
+}
+
+impl Index<usize> for SampledSpectrum {
+    type Output = f32;
+    #[inline]
+    fn index(&self, i: usize) -> &f32 {
+        &self.0[i]
+    }
+}
+impl IndexMut<usize> for SampledSpectrum {
+    #[inline]
+    fn index_mut(&mut self, i: usize) -> &mut f32 {
+        &mut self.0[i]
+    }
+}
+
+macro_rules! componentwise {
+    ($tr:ident, $f:ident, $tra:ident, $fa:ident, $op:tt) => {
+        impl $tr for SampledSpectrum {
+            type Output = Self;
+            #[inline]
+            fn $f(self, o: Self) -> Self {
+                Self(std::array::from_fn(|i| self.0[i] $op o.0[i]))
+            }
+        }
+        impl $tr<f32> for SampledSpectrum {
+            type Output = Self;
+            #[inline]
+            fn $f(self, o: f32) -> Self {
+                Self(self.0.map(|v| v $op o))
+            }
+        }
+        impl $tra for SampledSpectrum {
+            #[inline]
+            fn $fa(&mut self, o: Self) {
+                *self = *self $op o;
+            }
+        }
+        impl $tra<f32> for SampledSpectrum {
+            #[inline]
+            fn $fa(&mut self, o: f32) {
+                *self = *self $op o;
+            }
+        }
+    };
+}
+componentwise!(Add, add, AddAssign, add_assign, +);
+componentwise!(Mul, mul, MulAssign, mul_assign, *);
+componentwise!(Div, div, DivAssign, div_assign, /);
+
+impl Sub for SampledSpectrum {
+    type Output = Self;
+    #[inline]
+    fn sub(self, o: Self) -> Self {
+        Self(std::array::from_fn(|i| self.0[i] - o.0[i]))
+    }
+}
+impl Mul<SampledSpectrum> for f32 {
+    type Output = SampledSpectrum;
+    #[inline]
+    fn mul(self, s: SampledSpectrum) -> SampledSpectrum {
+        s * self
+    }
+}
+
+/// The wavelengths (nm) a path carries and their sampling densities (1/nm).
+///
+/// `lambda[0]` is the hero wavelength; the others are rotations of it by multiples of
+/// (LAMBDA_MAX - LAMBDA_MIN) / 4. A pdf of 0 marks a terminated secondary wavelength (after a
+/// dispersive interface): it contributes nothing from then on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SampledWavelengths {
+    lambda: [f32; N_SPECTRUM_SAMPLES],
+    pdf: [f32; N_SPECTRUM_SAMPLES],
+}
+
+impl SampledWavelengths {
+    /// Hero-wavelength sampling, uniform over [LAMBDA_MIN, LAMBDA_MAX]: lambda_0 = lerp(u), the
+    /// others rotated by equal steps with wrap-around; every pdf is 1 / (LAMBDA_MAX - LAMBDA_MIN).
+    pub fn sample_uniform(u: f32) -> Self {
+        let range = LAMBDA_MAX - LAMBDA_MIN;
+        let u = u.clamp(0.0, 1.0);
+        let mut lambda = [0.0; N_SPECTRUM_SAMPLES];
+        lambda[0] = LAMBDA_MIN + u * range;
+        let delta = range / N_SPECTRUM_SAMPLES as f32;
+        for i in 1..N_SPECTRUM_SAMPLES {
+            let mut l = lambda[i - 1] + delta;
+            if l > LAMBDA_MAX {
+                l -= range;
+            }
+            lambda[i] = l;
+        }
+        Self { lambda, pdf: [1.0 / range; N_SPECTRUM_SAMPLES] }
+    }
+
+    /// Hero-wavelength sampling with density proportional to the visual importance function of
+    /// pbrt-v4 (sec. 4.6.5), p(lambda) ~ 1 / cosh^2(0.0072 (lambda - 538)), restricted to
+    /// [LAMBDA_MIN, LAMBDA_MAX]. The rotations are taken in the CDF domain (u + i/4 mod 1), so the
+    /// four wavelengths are stratified in the importance measure and each has the same marginal pdf.
+    pub fn sample_visible(u: f32) -> Self {
+        let mut lambda = [0.0; N_SPECTRUM_SAMPLES];
+        let mut pdf = [0.0; N_SPECTRUM_SAMPLES];
+        for i in 0..N_SPECTRUM_SAMPLES {
+            let mut up = u + i as f32 / N_SPECTRUM_SAMPLES as f32;
+            if up >= 1.0 {
+                up -= 1.0;
+            }
+            lambda[i] = visible::sample(up);
+            pdf[i] = visible::pdf(lambda[i]);
+        }
+        Self { lambda, pdf }
+    }
+
+    /// Builds wavelengths with explicit values and densities (tests, single-wavelength probes).
+    pub fn from_parts(lambda: [f32; N_SPECTRUM_SAMPLES], pdf: [f32; N_SPECTRUM_SAMPLES]) -> Self {
+        Self { lambda, pdf }
+    }
+
+    /// Wavelength `i` in nm.
+    #[inline]
+    pub fn lambda(&self, i: usize) -> f32 {
+        self.lambda[i]
+    }
+
+    /// All wavelengths in nm.
+    #[inline]
+    pub fn lambdas(&self) -> &[f32; N_SPECTRUM_SAMPLES] {
+        &self.lambda
+    }
+
+    /// Sampling densities (1/nm) as a spectrum; terminated secondaries are 0.
+    #[inline]
+    pub fn pdf(&self) -> SampledSpectrum {
+        SampledSpectrum(self.pdf)
+    }
+
+    /// Keeps only the hero wavelength (a dispersive event made the path wavelength-specific).
+    /// The hero's pdf is divided by N so that the estimator stays unbiased: the hero now carries
+    /// the whole sample (pbrt-v4 `TerminateSecondary`).
+    pub fn terminate_secondary(&mut self) {
+        if self.secondary_terminated() {
+            return;
+        }
+        for i in 1..N_SPECTRUM_SAMPLES {
+            self.pdf[i] = 0.0;
+        }
+        self.pdf[0] /= N_SPECTRUM_SAMPLES as f32;
+    }
+
+    /// True once [`terminate_secondary`](Self::terminate_secondary) has been called.
+    #[inline]
+    pub fn secondary_terminated(&self) -> bool {
+        self.pdf[1..].iter().all(|&p| p == 0.0)
+    }
+
+    /// Converts a radiance estimate at these wavelengths into CIE XYZ, normalised so that a
+    /// spectrally flat radiance of 1 gives Y = 1:
+    /// XYZ = (1/N) sum_i L(lambda_i) cmf(lambda_i) / p(lambda_i) / integral(ybar).
+    pub fn to_xyz(&self, l: SampledSpectrum) -> [f32; 3] {
+        let mut xyz = [0.0f32; 3];
+        for i in 0..N_SPECTRUM_SAMPLES {
+            if self.pdf[i] == 0.0 || l.0[i] == 0.0 {
+                continue;
+            }
+            let w = l.0[i] / self.pdf[i];
+            let [x, y, z] = cie::cmf(self.lambda[i]);
+            xyz[0] += w * x;
+            xyz[1] += w * y;
+            xyz[2] += w * z;
+        }
+        let norm = 1.0 / (N_SPECTRUM_SAMPLES as f32 * cie::CIE_Y_INTEGRAL);
+        xyz.map(|v| v * norm)
+    }
+
+    /// Luminance Y only (same normalisation as [`to_xyz`](Self::to_xyz)).
+    pub fn luminance(&self, l: SampledSpectrum) -> f32 {
+        self.to_xyz(l)[1]
+    }
+}
+
+/// The visual importance density used by [`SampledWavelengths::sample_visible`].
+mod visible {
+    use super::{LAMBDA_MAX, LAMBDA_MIN};
+    const A: f32 = 0.0072;
+    const C: f32 = 538.0;
+
+    fn cdf_unnormalised(lambda: f32) -> f32 {
+        // integral of 1/cosh^2(A (l - C)) dl = tanh(A (l - C)) / A
+        (A * (lambda - C)).tanh() / A
+    }
+
+    fn norm() -> f32 {
+        cdf_unnormalised(LAMBDA_MAX) - cdf_unnormalised(LAMBDA_MIN)
+    }
+
+    pub fn pdf(lambda: f32) -> f32 {
+        if !(LAMBDA_MIN..=LAMBDA_MAX).contains(&lambda) {
+            return 0.0;
+        }
+        let c = (A * (lambda - C)).cosh();
+        1.0 / (c * c * norm())
+    }
+
+    pub fn sample(u: f32) -> f32 {
+        let t0 = (A * (LAMBDA_MIN - C)).tanh();
+        let t1 = (A * (LAMBDA_MAX - C)).tanh();
+        let t = t0 + u.clamp(0.0, 1.0) * (t1 - t0);
+        (C + t.clamp(-0.999_999, 0.999_999).atanh() / A).clamp(LAMBDA_MIN, LAMBDA_MAX)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn uniform_wavelengths_are_rotations_inside_range() {
+        for k in 0..100 {
+            let wl = SampledWavelengths::sample_uniform(k as f32 / 100.0);
+            for i in 0..N_SPECTRUM_SAMPLES {
+                assert!((LAMBDA_MIN..=LAMBDA_MAX).contains(&wl.lambda(i)));
+            }
+        }
+    }
+
+    #[test]
+    fn visible_pdf_integrates_to_one() {
+        let n = 10_000;
+        let h = (LAMBDA_MAX - LAMBDA_MIN) / n as f32;
+        let s: f32 = (0..n).map(|i| visible::pdf(LAMBDA_MIN + (i as f32 + 0.5) * h) * h).sum();
+        assert!((s - 1.0).abs() < 1e-3, "{s}");
+    }
+
+    #[test]
+    fn flat_radiance_gives_unit_luminance_on_average() {
+        // Monte Carlo over stratified hero wavelengths: E[Y] = 1 for L = 1.
+        for sampler in [SampledWavelengths::sample_uniform, SampledWavelengths::sample_visible] {
+            let n = 4000;
+            let y: f64 = (0..n)
+                .map(|k| {
+                    let wl = sampler((k as f32 + 0.5) / n as f32);
+                    wl.luminance(SampledSpectrum::one()) as f64
+                })
+                .sum::<f64>()
+                / n as f64;
+            assert!((y - 1.0).abs() < 2e-3, "{y}");
+        }
+    }
+
+    #[test]
+    fn terminating_secondaries_keeps_the_estimate_unbiased() {
+        let n = 4000;
+        let y: f64 = (0..n)
+            .map(|k| {
+                let mut wl = SampledWavelengths::sample_visible((k as f32 + 0.5) / n as f32);
+                wl.terminate_secondary();
+                wl.luminance(SampledSpectrum::one()) as f64
+            })
+            .sum::<f64>()
+            / n as f64;
+        assert!((y - 1.0).abs() < 5e-3, "{y}");
+    }
+}
