@@ -1,1 +1,21 @@
-//! quasar renderer
+//! quasar: a physically based, spectral CPU renderer (see DESIGN.md).
+//!
+//! Data flow: `quasar_importers` turns files into a plain [`quasar_importers::SceneDesc`];
+//! [`scene::Scene::compile`] builds the BVH, lights and materials; an integrator
+//! ([`integrator`]) estimates radiance per pixel into the [`film::Film`]; [`output`] writes the
+//! multi-layer EXR.
+#![warn(missing_docs)]
+
+pub mod camera;
+pub mod film;
+pub mod geometry;
+pub mod integrator;
+pub mod job;
+pub mod light;
+pub mod output;
+pub mod render;
+pub mod sampling;
+pub mod scene;
+
+pub use quasar_importers as importers;
+pub use quasar_materials as materials;

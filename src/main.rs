@@ -1,1 +1,113 @@
-fn main() {}
+//! The `quasar` command line (DESIGN.md section 6).
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+use quasar::job::{JobOverrides, load_scene, render_desc, write_outputs};
+use quasar::scene::Scene;
+
+#[derive(Parser)]
+#[command(name = "quasar", version, about = "Physically based spectral renderer for lighting and CAD engineers")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene (.toml, .obj) to a multi-layer OpenEXR file.
+    Render {
+        /// Scene file.
+        scene: PathBuf,
+        /// Output EXR (default: the scene's name with .exr, in the current directory).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Integration method: auto | pt.
+        #[arg(long)]
+        method: Option<String>,
+        /// Samples per pixel.
+        #[arg(long, conflicts_with = "time")]
+        spp: Option<u32>,
+        /// Render for this many seconds instead of a fixed sample count.
+        #[arg(long)]
+        time: Option<f64>,
+        /// Image width in pixels.
+        #[arg(long)]
+        width: Option<u32>,
+        /// Image height in pixels.
+        #[arg(long)]
+        height: Option<u32>,
+        /// Worker threads (default: all cores).
+        #[arg(long)]
+        threads: Option<usize>,
+        /// Seed of the random streams.
+        #[arg(long)]
+        seed: Option<u64>,
+        /// Maximum number of scattering events per path (default: unbounded).
+        #[arg(long)]
+        max_depth: Option<u32>,
+        /// Also write a tone-mapped PNG preview.
+        #[arg(long)]
+        preview: Option<PathBuf>,
+        /// Do not show a progress bar.
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Print what a scene contains and which method `auto` would use.
+    Info {
+        /// Scene file.
+        scene: PathBuf,
+    },
+}
+
+fn run() -> anyhow::Result<()> {
+    let cli = Cli::parse();
+    match cli.command {
+        Command::Render { scene, output, method, spp, time, width, height, threads, seed, max_depth, preview, quiet } => {
+            let desc = load_scene(&scene)?;
+            let ov = JobOverrides { width, height, spp, time_s: time, seed, threads, max_depth, method };
+            let out = render_desc(&desc, &ov, !quiet)?;
+            let exr = output.unwrap_or_else(|| {
+                PathBuf::from(scene.file_stem().map_or("out".into(), |s| s.to_string_lossy().into_owned()) + ".exr")
+            });
+            write_outputs(&out, &exr, preview.as_ref())?;
+            if !quiet {
+                eprintln!(
+                    "wrote {} ({}x{}, {} spp, {:.2} s, {} threads)",
+                    exr.display(),
+                    out.image.width,
+                    out.image.height,
+                    out.result.spp,
+                    out.result.seconds,
+                    out.result.threads
+                );
+            }
+            Ok(())
+        }
+        Command::Info { scene } => {
+            let desc = load_scene(&scene)?;
+            let compiled = Scene::compile(&desc)?;
+            println!("scene: {}", scene.display());
+            println!("meshes: {}, triangles: {}", desc.meshes.len(), compiled.triangle_count());
+            println!("materials: {}", desc.materials.len());
+            for m in &desc.materials {
+                println!("  {}: {:?}", m.name, m.material);
+            }
+            println!("lights: {} ({} emissive triangles)", compiled.lights.len(), compiled.lights.len() - desc.lights.len());
+            println!("bounding sphere: centre {:?}, radius {}", compiled.center, compiled.radius);
+            println!("auto method: pt (the only method in this build)");
+            Ok(())
+        }
+    }
+}
+
+fn main() -> ExitCode {
+    match run() {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,6 +1,23 @@
 //! quasar-importers: the plain-data [`SceneDesc`] and the importers that produce it.
+//!
+//! [`import_scene`] picks the importer by file extension from the table in [`registry`]:
+//! `.toml` (the native scene format, see `docs/scene-format.md`) and `.obj` (Wavefront OBJ/MTL).
+//! Every error is an [`ImportError`] whose message starts with `file:line:col:`.
 #![warn(missing_docs)]
 
+pub mod error;
+mod glob;
+pub mod obj;
+mod obj_lint;
+pub mod registry;
 pub mod scene_desc;
+pub mod toml_scene;
+mod transform;
 
+pub use error::{ErrorPlace, ImportError, ImportErrorKind};
+pub use glob::glob_match;
+pub use obj::{ObjImporter, ObjMaterials, import_obj};
+pub use obj_lint::{MAX_OBJ_BYTES, MAX_OBJ_TRIANGLES, MAX_SMALL_FILE_BYTES};
+pub use registry::{IMPORTERS, ImportOptions, Importer, import_scene, importer_for, supported_extensions};
 pub use scene_desc::*;
+pub use toml_scene::{TomlSceneImporter, import_toml_scene, parse_toml_scene};

@@ -146,7 +146,13 @@ pub struct CameraDesc {
 
 impl Default for CameraDesc {
     fn default() -> Self {
-        Self { position: Vec3::new(0.0, 0.0, 5.0), target: Vec3::ZERO, up: Vec3::Y, fov_deg: 40.0, fov_axis: FovAxis::Y }
+        Self {
+            position: Vec3::new(0.0, 0.0, 5.0),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            fov_deg: 40.0,
+            fov_axis: FovAxis::Y,
+        }
     }
 }
 

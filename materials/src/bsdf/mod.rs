@@ -6,6 +6,18 @@ use glam::Vec3;
 
 use crate::spectrum::SampledSpectrum;
 
+pub mod conductor;
+pub mod dielectric;
+pub mod diffuse;
+pub mod fresnel;
+pub mod microfacet;
+
+pub use conductor::ConductorBsdf;
+pub use dielectric::DielectricBsdf;
+pub use diffuse::DiffuseBsdf;
+pub use fresnel::SampledFresnel;
+pub use microfacet::TrowbridgeReitz;
+
 /// Which quantity a path carries: radiance (camera paths) or importance (light paths / photons).
 /// Non-symmetric scattering (refraction's 1/eta^2 radiance scaling) depends on it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -43,28 +55,236 @@ pub struct BsdfSample {
     pub eta: f32,
 }
 
+/// Specular samples whose |cos wi| is below this are dropped: f = weight / |cos| would overflow.
+pub(crate) const MIN_SPECULAR_COS: f32 = 1e-30;
+
+/// Mirror reflection of `wo` about the unit normal `n`: 2 (wo . n) n - wo.
+#[inline]
+pub(crate) fn reflect(wo: Vec3, n: Vec3) -> Vec3 {
+    2.0 * wo.dot(n) * n - wo
+}
+
+/// Refraction of `wi` (pointing away from the surface) through the interface with unit normal `n`
+/// and relative IOR `eta` (the side `n` points away from over the side it points to), by Snell's
+/// law: wt = -wi / eta' + (cos i / eta' - cos t) n', where a `wi` below the interface flips n and
+/// uses eta' = 1/eta. Returns (wt, eta') or None under total internal reflection.
+#[inline]
+pub(crate) fn refract(wi: Vec3, n: Vec3, eta: f32) -> Option<(Vec3, f32)> {
+    let mut cos_i = n.dot(wi);
+    let (mut eta, mut n) = (eta, n);
+    if cos_i < 0.0 {
+        eta = 1.0 / eta;
+        cos_i = -cos_i;
+        n = -n;
+    }
+    let sin2_i = (1.0 - cos_i * cos_i).max(0.0);
+    let sin2_t = sin2_i / (eta * eta);
+    if sin2_t.is_nan() || sin2_t >= 1.0 {
+        return None;
+    }
+    let cos_t = (1.0 - sin2_t).max(0.0).sqrt();
+    let wt = -wi / eta + (cos_i / eta - cos_t) * n;
+    wt.is_finite().then_some((wt, eta))
+}
+
 /// A BSDF at one surface point and one set of wavelengths (closed set, enum dispatch).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Bsdf {
-    /// Placeholder until the models land.
+    /// Scatters nothing (f = 0, no samples): the back of one-sided surfaces, absorbers.
     Black,
+    /// Lambertian reflection.
+    Diffuse(DiffuseBsdf),
+    /// Smooth or GGX-rough conductor.
+    Conductor(ConductorBsdf),
+    /// Smooth or GGX-rough dielectric interface.
+    Dielectric(DielectricBsdf),
 }
 
 impl Bsdf {
+    /// A BSDF that scatters nothing.
+    #[inline]
+    pub fn black() -> Bsdf {
+        Bsdf::Black
+    }
+
     /// f(wo, wi) in 1/sr (0 for specular lobes).
-    pub fn f(&self, _wo: Vec3, _wi: Vec3, _mode: TransportMode) -> SampledSpectrum {
-        SampledSpectrum::zero()
+    pub fn f(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> SampledSpectrum {
+        match self {
+            Bsdf::Black => SampledSpectrum::zero(),
+            Bsdf::Diffuse(b) => b.f(wo, wi),
+            Bsdf::Conductor(b) => b.f(wo, wi),
+            Bsdf::Dielectric(b) => b.f(wo, wi, mode),
+        }
     }
-    /// Samples wi given wo and three uniform numbers.
-    pub fn sample_f(&self, _wo: Vec3, _uc: f32, _u: glam::Vec2, _mode: TransportMode) -> Option<BsdfSample> {
-        None
+
+    /// Samples wi given wo and three uniform numbers in [0, 1): `uc` picks the lobe, `u` the
+    /// direction. None when nothing is scattered (black side, absorbed, below the horizon).
+    pub fn sample_f(&self, wo: Vec3, uc: f32, u: glam::Vec2, mode: TransportMode) -> Option<BsdfSample> {
+        match self {
+            Bsdf::Black => None,
+            Bsdf::Diffuse(b) => b.sample_f(wo, u, mode),
+            Bsdf::Conductor(b) => b.sample_f(wo, u, mode),
+            Bsdf::Dielectric(b) => b.sample_f(wo, uc, u, mode),
+        }
     }
+
     /// Solid-angle density with which `sample_f` returns wi (0 for specular lobes).
-    pub fn pdf(&self, _wo: Vec3, _wi: Vec3, _mode: TransportMode) -> f32 {
-        0.0
+    pub fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
+        match self {
+            Bsdf::Black => 0.0,
+            Bsdf::Diffuse(b) => b.pdf(wo, wi),
+            Bsdf::Conductor(b) => b.pdf(wo, wi),
+            Bsdf::Dielectric(b) => b.pdf(wo, wi, mode),
+        }
     }
+
     /// True when every lobe is a Dirac delta (no light sampling, a specular path vertex).
+    /// [`Bsdf::Black`] has no lobes and reports false (like pbrt-v4's empty flags).
     pub fn is_specular(&self) -> bool {
-        false
+        match self {
+            Bsdf::Black | Bsdf::Diffuse(_) => false,
+            Bsdf::Conductor(b) => b.is_specular(),
+            Bsdf::Dielectric(b) => b.is_specular(),
+        }
+    }
+
+    /// True when the BSDF can transmit light to the other side of the surface.
+    pub fn has_transmission(&self) -> bool {
+        matches!(self, Bsdf::Dielectric(_))
+    }
+}
+
+/// Deterministic helpers for the unit tests of this module tree.
+#[cfg(test)]
+pub(crate) mod test_util {
+    use glam::Vec3;
+
+    /// SplitMix64 (Steele, Lea & Flood 2014) as a tiny seeded generator.
+    pub struct SplitMix(pub u64);
+
+    impl SplitMix {
+        /// Next uniform f32 in [0, 1) (24 random bits).
+        pub fn next(&mut self) -> f32 {
+            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            z ^= z >> 31;
+            (z >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
+        }
+    }
+
+    /// Uniform direction on the sphere.
+    pub fn random_dir(rng: &mut SplitMix) -> Vec3 {
+        let z = 1.0 - 2.0 * rng.next();
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        let phi = std::f32::consts::TAU * rng.next();
+        Vec3::new(r * phi.cos(), r * phi.sin(), z)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec2;
+    use test_util::{SplitMix, random_dir};
+
+    fn all_models() -> Vec<Bsdf> {
+        let gold = SampledFresnel::Complex {
+            eta: SampledSpectrum([1.4, 0.4, 0.2, 0.15]),
+            k: SampledSpectrum([1.9, 2.5, 3.3, 4.5]),
+        };
+        let mut v = vec![Bsdf::black()];
+        for two_sided in [false, true] {
+            v.push(Bsdf::Diffuse(DiffuseBsdf::new(SampledSpectrum::splat(0.7), two_sided)));
+            for alpha in [0.0f32, 1e-4, 1e-3, 0.01, 0.3, 1.0] {
+                for fresnel in [SampledFresnel::Constant(SampledSpectrum::one()), gold] {
+                    v.push(Bsdf::Conductor(ConductorBsdf::new(TrowbridgeReitz::new(alpha), fresnel, two_sided)));
+                }
+            }
+        }
+        for eta in [1.0f32, 1.0001, 1.5, 4.0, 0.25] {
+            for alpha in [0.0f32, 1e-4, 1e-3, 0.01, 0.3, 1.0] {
+                v.push(Bsdf::Dielectric(DielectricBsdf::new(eta, TrowbridgeReitz::new(alpha))));
+            }
+        }
+        v
+    }
+
+    fn extreme_dirs() -> Vec<Vec3> {
+        let mut v = vec![Vec3::Z, -Vec3::Z, Vec3::X, -Vec3::Y];
+        for z in [0.0f32, 1e-30, 1e-12, 1e-7, 1e-6, 1e-3, 0.05, 0.5] {
+            for s in [1.0f32, -1.0] {
+                let zz = s * z;
+                v.push(Vec3::new((1.0 - zz * zz).sqrt(), 0.0, zz));
+                v.push(Vec3::new(0.0, -(1.0 - zz * zz).sqrt(), zz));
+            }
+        }
+        let mut rng = SplitMix(99);
+        v.extend((0..24).map(|_| random_dir(&mut rng)));
+        v
+    }
+
+    #[test]
+    fn extremes_never_produce_nan_inf_or_negative_values() {
+        let dirs = extreme_dirs();
+        let us = [0.0f32, 1e-7, 0.25, 0.5, 0.999_999_9];
+        for b in all_models() {
+            for mode in [TransportMode::Radiance, TransportMode::Importance] {
+                for &wo in &dirs {
+                    for &wi in &dirs {
+                        let f = b.f(wo, wi, mode);
+                        let p = b.pdf(wo, wi, mode);
+                        assert!(f.is_finite() && f.min_component() >= 0.0, "{b:?} {wo} {wi}: {f:?}");
+                        assert!(p.is_finite() && p >= 0.0, "{b:?} {wo} {wi}: {p}");
+                        if b.is_specular() {
+                            assert!(f.is_black() && p == 0.0);
+                        }
+                    }
+                    for &uc in &us {
+                        for &u0 in &us {
+                            for &u1 in &us {
+                                let Some(s) = b.sample_f(wo, uc, Vec2::new(u0, u1), mode) else { continue };
+                                assert!(s.f.is_finite() && s.f.min_component() >= 0.0, "{b:?} {wo}: {s:?}");
+                                assert!(s.pdf.is_finite() && s.pdf > 0.0, "{b:?} {wo}: {s:?}");
+                                assert!(s.wi.is_finite() && (s.wi.length() - 1.0).abs() < 1e-3, "{b:?} {wo}: {s:?}");
+                                assert!(s.eta.is_finite() && s.eta > 0.0);
+                                let w = s.f * (s.wi.z.abs() / s.pdf);
+                                assert!(w.is_finite(), "{b:?} {wo}: {s:?}");
+                                assert_eq!(s.specular, b.is_specular());
+                                assert_eq!(
+                                    s.lobe == Lobe::Reflection,
+                                    (s.wi.z > 0.0) == (wo.z > 0.0),
+                                    "{b:?} {wo}: {s:?}"
+                                );
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn black_scatters_nothing() {
+        let b = Bsdf::black();
+        assert!(b.f(Vec3::Z, Vec3::Z, TransportMode::Radiance).is_black());
+        assert!(b.sample_f(Vec3::Z, 0.5, Vec2::splat(0.5), TransportMode::Radiance).is_none());
+        assert_eq!(b.pdf(Vec3::Z, Vec3::Z, TransportMode::Radiance), 0.0);
+        assert!(!b.is_specular() && !b.has_transmission());
+    }
+
+    #[test]
+    fn refract_obeys_snell_and_reflect_is_an_involution() {
+        let wo = Vec3::new(0.6, 0.0, 0.8);
+        let (wt, etap) = refract(wo, Vec3::Z, 1.5).unwrap();
+        assert_eq!(etap, 1.5);
+        assert!((wt.length() - 1.0).abs() < 1e-6 && wt.z < 0.0);
+        assert!((0.6f32 - 1.5 * (1.0 - wt.z * wt.z).sqrt()).abs() < 1e-6);
+        let (back, etap2) = refract(wt, Vec3::Z, 1.5).unwrap();
+        assert!((back - wo).length() < 1e-6 && (etap2 - 1.0 / 1.5).abs() < 1e-7);
+        assert!(refract(Vec3::new(0.9, 0.0, -0.436).normalize(), Vec3::Z, 1.5).is_none());
+        let n = Vec3::new(0.1, 0.2, 0.97).normalize();
+        assert!((reflect(reflect(wo, n), n) - wo).length() < 1e-6);
     }
 }

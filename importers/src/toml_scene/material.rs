@@ -1,0 +1,143 @@
+//! `[materials.NAME]` tables: `type = "diffuse" | "conductor" | "dielectric"`.
+
+use quasar_materials::{ConductorFresnel, Ior, Material};
+use toml::de::DeValue;
+
+use super::reader::{Tbl, Val, float, floats, string};
+use super::spectrum::{SpectrumUse, spectrum};
+use crate::error::{ImportError, ImportErrorKind, did_you_mean};
+
+/// Material types of the TOML format.
+pub const MATERIAL_TYPES: [&str; 3] = ["diffuse", "conductor", "dielectric"];
+
+/// Glass names that [`Ior::named`] knows (for suggestions in messages).
+const GLASS_NAMES: [&str; 10] =
+    ["BK7", "N-BK7", "fused-silica", "silica", "SiO2", "water", "acrylic", "PMMA", "polycarbonate", "PC"];
+/// Metal names that [`ConductorFresnel::named`] knows (for suggestions in messages).
+const METAL_NAMES: [&str; 9] = ["Al", "aluminium", "aluminum", "Ag", "silver", "Au", "gold", "Cu", "copper"];
+
+/// GGX alpha from `alpha` (used directly) or `roughness` (alpha = roughness^2); default 0 (smooth).
+fn alpha(t: &Tbl<'_>) -> Result<f32, ImportError> {
+    t.exclusive(&["alpha", "roughness"])?;
+    if let Some(a) = t.opt_f32_where("alpha", ">= 0", |a| a >= 0.0)? {
+        return Ok(a);
+    }
+    Ok(t.opt_f32_where("roughness", ">= 0", |r| r >= 0.0)?.map_or(0.0, |r| r * r))
+}
+
+/// Reads the material table `v` named `name`; the result has passed [`Material::validate`].
+pub(crate) fn material(t: &Tbl<'_>) -> Result<Material, ImportError> {
+    let doc = t.doc;
+    if t.has("file") {
+        return Err(doc.error(
+            ImportErrorKind::Unsupported,
+            &t.key_span("file"),
+            format!("`{}`: tabulated BSDF material files are not supported yet", t.path),
+        ));
+    }
+    let Some((ty, _)) = t.choice("type", &MATERIAL_TYPES)? else {
+        return Err(
+            doc.invalid(&t.span, format!("`{}`: missing key `type` (one of: {})", t.path, MATERIAL_TYPES.join(", ")))
+        );
+    };
+    let m = match ty {
+        "diffuse" => {
+            t.check_keys(&["type", "reflectance", "two_sided"])?;
+            let r = t.req("reflectance")?;
+            Material::Diffuse {
+                reflectance: spectrum(doc, r, &t.key_path("reflectance"), SpectrumUse::Reflectance)?,
+                two_sided: t.opt_bool("two_sided")?.unwrap_or(true),
+            }
+        }
+        "conductor" => {
+            t.check_keys(&["type", "alpha", "roughness", "fresnel", "eta", "k", "metal", "two_sided"])?;
+            t.exclusive(&["fresnel", "eta", "metal"])?;
+            t.exclusive(&["fresnel", "k", "metal"])?;
+            let fresnel = if let Some(v) = t.get("fresnel") {
+                ConductorFresnel::Constant(spectrum(doc, v, &t.key_path("fresnel"), SpectrumUse::Reflectance)?)
+            } else if let Some(v) = t.get("metal") {
+                let name = string(doc, v, &t.key_path("metal"))?;
+                ConductorFresnel::named(name).ok_or_else(|| {
+                    doc.invalid(
+                        &v.span(),
+                        format!(
+                            "`{}`: unknown metal \"{name}\"; known: {}{}",
+                            t.key_path("metal"),
+                            METAL_NAMES.join(", "),
+                            did_you_mean(name, METAL_NAMES)
+                        ),
+                    )
+                })?
+            } else if t.has("eta") || t.has("k") {
+                let eta = t.req("eta")?;
+                let k = t.req("k")?;
+                ConductorFresnel::Complex {
+                    eta: spectrum(doc, eta, &t.key_path("eta"), SpectrumUse::Quantity)?,
+                    k: spectrum(doc, k, &t.key_path("k"), SpectrumUse::Quantity)?,
+                }
+            } else {
+                return Err(doc.invalid(
+                    &t.span,
+                    format!("`{}`: a conductor needs `fresnel` (a reflectance), `eta` and `k`, or `metal`", t.path),
+                ));
+            };
+            Material::Conductor { alpha: alpha(t)?, fresnel, two_sided: t.opt_bool("two_sided")?.unwrap_or(true) }
+        }
+        _ => {
+            t.check_keys(&["type", "ior", "alpha", "roughness"])?;
+            let v = t.req("ior")?;
+            Material::Dielectric { ior: ior(t, v)?, alpha: alpha(t)? }
+        }
+    };
+    m.validate()
+        .map_err(|e| doc.invalid(&t.span, format!("material `{}`: {e}", t.path.trim_start_matches("materials."))))?;
+    Ok(m)
+}
+
+/// `ior = 1.5 | "BK7" | { cauchy = [a, b] } | { sellmeier = { b = [...], c = [...] } }`.
+fn ior(t: &Tbl<'_>, v: &Val<'_>) -> Result<Ior, ImportError> {
+    let doc = t.doc;
+    let what = t.key_path("ior");
+    match v.get_ref() {
+        DeValue::Integer(_) | DeValue::Float(_) => Ok(Ior::Constant(float(doc, v, &what)?)),
+        DeValue::String(_) => {
+            let name = string(doc, v, &what)?;
+            Ior::named(name).ok_or_else(|| {
+                doc.invalid(
+                    &v.span(),
+                    format!(
+                        "`{what}`: unknown optical material \"{name}\"; known: {}{}",
+                        GLASS_NAMES.join(", "),
+                        did_you_mean(name, GLASS_NAMES)
+                    ),
+                )
+            })
+        }
+        DeValue::Table(_) => {
+            let it = Tbl::of(doc, v, what.clone())?;
+            it.check_keys(&["cauchy", "sellmeier"])?;
+            it.exclusive(&["cauchy", "sellmeier"])?;
+            if let Some(c) = it.get("cauchy") {
+                let [a, b] = floats::<2>(doc, c, &it.key_path("cauchy"))?;
+                Ok(Ior::Cauchy { a, b })
+            } else if let Some(s) = it.opt_table("sellmeier")? {
+                s.check_keys(&["b", "c"])?;
+                let b = floats::<3>(doc, s.req("b")?, &s.key_path("b"))?;
+                let c = floats::<3>(doc, s.req("c")?, &s.key_path("c"))?;
+                Ok(Ior::Sellmeier { b, c })
+            } else {
+                Err(doc.invalid(
+                    &it.span,
+                    format!("`{what}`: give `cauchy = [a, b]` or `sellmeier = {{ b = [...], c = [...] }}`"),
+                ))
+            }
+        }
+        other => Err(doc.invalid(
+            &v.span(),
+            format!(
+                "`{what}` must be a number, a glass name or a dispersion table, got {}",
+                super::reader::type_name(other)
+            ),
+        )),
+    }
+}

@@ -1,0 +1,264 @@
+//! OBJ/MTL import: meshes, normals, the MTL -> material mapping, emission, and malformed input
+//! reported with file and line.
+
+mod common;
+
+use common::{Files, assert_at};
+use glam::Vec3;
+use quasar_importers::{ImportErrorKind, ImportOptions, ObjMaterials, SceneDesc, import_obj, import_scene};
+use quasar_materials::spectrum::Spectrum;
+use quasar_materials::{ConductorFresnel, Ior, Material};
+
+const TRI: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+
+fn obj(files: &[(&str, &str)]) -> (Files, Result<SceneDesc, quasar_importers::ImportError>) {
+    let f = Files::new();
+    for (n, t) in files {
+        f.write(n, t);
+    }
+    let r = f.import(files[0].0);
+    (f, r)
+}
+
+fn ok(files: &[(&str, &str)]) -> SceneDesc {
+    obj(files).1.unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn err(files: &[(&str, &str)]) -> String {
+    match obj(files).1 {
+        Ok(_) => panic!("should fail: {files:?}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn obj_without_mtl_gets_default_grey() {
+    let s = ok(&[("tri.obj", TRI)]);
+    assert_eq!(s.meshes.len(), 1);
+    let m = &s.meshes[0];
+    assert_eq!(m.name, "tri.obj:unnamed_object:default");
+    assert_eq!(m.positions, vec![Vec3::ZERO, Vec3::X, Vec3::Y]);
+    assert_eq!(m.indices, vec![[0, 1, 2]]);
+    assert!(m.normals.is_none());
+    assert!(m.emission.is_none());
+    assert_eq!(s.materials.len(), 1);
+    assert_eq!(s.materials[0].material, Material::Diffuse { reflectance: Spectrum::Constant(0.8), two_sided: true });
+    assert!(s.lights.is_empty());
+    // usemtl without any mtllib: grey, but the name is kept
+    let s = ok(&[("tri.obj", &format!("o Thing\nusemtl paint\n{TRI}"))]);
+    assert_eq!(s.meshes[0].name, "tri.obj:Thing:paint");
+    assert_eq!(s.materials[0].name, "paint");
+}
+
+#[test]
+fn polygons_negative_indices_and_normals() {
+    let text = "o Quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 2\nf -4//-1 -3//-1 -2//-1 -1//-1\n\
+                o Mixed\nv 0 0 1\nv 1 0 1\nv 0 1 1\nf 5//1 6 7\n\
+                o Pentagon\nf 1 2 3 4 5\n";
+    let s = ok(&[("q.obj", text)]);
+    assert_eq!(s.meshes.len(), 3);
+    let q = &s.meshes[0];
+    assert_eq!(q.name, "q.obj:Quad:default");
+    assert_eq!(q.indices.len(), 2);
+    assert_eq!(q.positions.len(), 4);
+    assert!(q.normals.as_ref().unwrap().iter().all(|n| *n == Vec3::Z), "vn used and normalised");
+    assert!(s.meshes[1].normals.is_none(), "vertices without vn: flat");
+    assert_eq!(s.meshes[2].indices.len(), 3);
+    // all meshes share the one default material
+    assert_eq!(s.materials.len(), 1);
+}
+
+#[test]
+fn units_scale_applies_to_obj() {
+    let f = Files::new();
+    let p = f.write("tri.obj", TRI);
+    let s = import_scene(&p, &ImportOptions { units_scale: Some(0.01) }).unwrap();
+    assert_eq!(s.meshes[0].positions[1], Vec3::new(0.01, 0.0, 0.0));
+}
+
+const MTL: &str = "# materials
+newmtl paint
+Kd 0.6 0.5 0.4
+Ks 0.5 0.5 0.5
+Ns 250
+
+newmtl chrome
+Kd 0 0 0
+Ks 0.9 0.9 0.9
+Ns 98
+
+newmtl mirror
+Ks 0.95
+illum 3
+
+newmtl glass
+Kd 0.1 0.1 0.1
+Ni 1.52
+d 0.2
+Ns 1000
+
+newmtl glass2
+illum 7
+
+newmtl tr_glass
+Tr 0.5
+
+newmtl lamp
+Kd 0.2 0.2 0.2
+Ke 4 3 2
+
+newmtl empty
+";
+
+fn mtl_scene() -> SceneDesc {
+    let mut o = String::from("mtllib lib.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n");
+    for name in ["paint", "chrome", "mirror", "glass", "glass2", "tr_glass", "lamp", "empty"] {
+        o.push_str(&format!("o {name}_obj\nusemtl {name}\nf 1 2 3\n"));
+    }
+    ok(&[("scene.obj", &o), ("lib.mtl", MTL)])
+}
+
+#[test]
+fn mtl_mapping() {
+    let s = mtl_scene();
+    let mat = |n: &str| &s.materials.iter().find(|m| m.name == n).unwrap().material;
+    assert_eq!(
+        mat("paint"),
+        &Material::Diffuse { reflectance: Spectrum::RgbReflectance([0.6, 0.5, 0.4]), two_sided: true },
+        "Kd + Ks blend keeps the dominant diffuse lobe"
+    );
+    match mat("chrome") {
+        Material::Conductor { alpha, fresnel: ConductorFresnel::Constant(r), two_sided: true } => {
+            assert!((alpha - (2.0f32 / 100.0).sqrt()).abs() < 1e-6, "alpha = sqrt(2/(Ns+2))");
+            assert_eq!(r, &Spectrum::RgbReflectance([0.9, 0.9, 0.9]));
+        }
+        m => panic!("{m:?}"),
+    }
+    assert!(
+        matches!(mat("mirror"), Material::Conductor { alpha, .. } if *alpha == 0.0),
+        "no Ns: smooth; one-value Ks expands to grey"
+    );
+    assert_eq!(mat("glass"), &Material::Dielectric { ior: Ior::Constant(1.52), alpha: 0.0 });
+    assert_eq!(mat("glass2"), &Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.0 });
+    assert!(matches!(mat("tr_glass"), Material::Dielectric { .. }));
+    assert_eq!(mat("empty"), &Material::Diffuse { reflectance: Spectrum::RgbReflectance([0.8; 3]), two_sided: true });
+    let lamp = s.meshes.iter().find(|m| m.name == "scene.obj:lamp_obj:lamp").unwrap();
+    let e = lamp.emission.as_ref().unwrap();
+    assert_eq!((e.scale, e.two_sided), (1.0, false));
+    assert!(matches!(e.spectrum, Spectrum::RgbIlluminant { rgb, .. } if rgb == [4.0, 3.0, 2.0]));
+    assert!(s.meshes.iter().filter(|m| m.emission.is_some()).count() == 1);
+    // materials record where they were defined
+    let glass = s.materials.iter().find(|m| m.name == "glass").unwrap();
+    assert!(glass.source.file.ends_with("lib.mtl"));
+    assert_eq!(glass.source.line, Some(16));
+}
+
+#[test]
+fn several_material_libraries_and_materials_per_object() {
+    let o = "mtllib a.mtl b.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\no Box\nusemtl red\nf 1 2 3\nusemtl blue\nf 2 4 3\nusemtl red\nf 1 3 2\n";
+    let s = ok(&[("m.obj", o), ("a.mtl", "newmtl red\nKd 1 0 0\n"), ("b.mtl", "newmtl blue\nKd 0 0 1\n")]);
+    let names: Vec<&str> = s.meshes.iter().map(|m| m.name.as_str()).collect();
+    assert_eq!(names, ["m.obj:Box:red", "m.obj:Box:blue", "m.obj:Box:red"]);
+    assert_eq!(s.materials.len(), 2);
+    assert_eq!(s.meshes[0].material, s.meshes[2].material);
+    // a library file name with a space
+    let o = "mtllib my lib.mtl\nusemtl red\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    let s = ok(&[("m.obj", o), ("my lib.mtl", "newmtl red\nKd 1 0 0\n")]);
+    assert_eq!(s.materials[0].name, "red");
+}
+
+#[test]
+fn names_only_mode_skips_libraries() {
+    let f = Files::new();
+    let p = f.write("m.obj", &format!("mtllib missing.mtl\nusemtl red\n{TRI}"));
+    let s = import_obj(&p, &ImportOptions::default(), ObjMaterials::NamesOnly).unwrap();
+    assert_eq!(s.materials[0].name, "red");
+    let e = import_obj(&p, &ImportOptions::default(), ObjMaterials::FromMtl).unwrap_err();
+    assert_eq!(e.kind, ImportErrorKind::MissingFile);
+}
+
+#[test]
+fn malformed_obj_names_file_and_line() {
+    for (text, line, needle) in [
+        ("v 0 0 0\nv 1 0 0\nv 0 1 zero\nf 1 2 3\n", 3, "`zero` is not a number"),
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n", 4, "out of range"),
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n", 4, "out of range"),
+        ("v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n", 2, "not a finite number"),
+        ("v 0 0 0\nv 1 0 inf\nv 0 1 0\nf 1 2 3\n", 2, "not a finite number"),
+        ("v 0 0 0\nv 1 0 1e39\nv 0 1 0\nf 1 2 3\n", 2, "not a finite number"),
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\n\n# c\nf 1 2\n", 6, "at least 3"),
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//2 2//1 3//1\n", 5, "normal index 2 is out of range"),
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/a 2 3\n", 4, "not an integer"),
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl\nf 1 2 3\n", 4, "needs a material name"),
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0\nf 1 2 3\n", 4, "`vn` expects 3"),
+        ("v 0 0 0\nv 1 0 0 0\nv 0 1 0\nf 1 2 3\n", 2, "weight"),
+    ] {
+        let e = err(&[("bad.obj", text)]);
+        assert_at(&format!("{e}:"), "bad.obj", line, &[needle]);
+    }
+    let e = err(&[("empty.obj", "# nothing\nv 0 0 0\n")]);
+    assert!(e.contains("empty.obj: OBJ file has no faces"), "{e}");
+}
+
+#[test]
+fn mtl_problems_name_the_right_file_and_line() {
+    let o = |lib: &str, mat: &str| format!("\nmtllib {lib}\nusemtl {mat}\n{TRI}");
+    // missing library: the mtllib line of the OBJ
+    let e = err(&[("m.obj", &o("nope.mtl", "a"))]);
+    assert_at(&e, "m.obj", 2, &["material library `nope.mtl` not found"]);
+    // unknown material: the usemtl line, with a suggestion
+    let e = err(&[("m.obj", &o("a.mtl", "rde")), ("a.mtl", "newmtl red\nKd 1 0 0\n")]);
+    assert_at(&e, "m.obj", 3, &["material `rde` is not defined", "a.mtl", "did you mean `red`?"]);
+    // malformed MTL statement
+    let e = err(&[("m.obj", &o("a.mtl", "red")), ("a.mtl", "newmtl red\n\nKd 1 0\n")]);
+    assert_at(&e, "a.mtl", 3, &["`Kd` expects r g b", "(included from", "m.obj:2"]);
+    let e = err(&[("m.obj", &o("a.mtl", "red")), ("a.mtl", "newmtl red\nNs abc\n")]);
+    assert_at(&e, "a.mtl", 2, &["`abc` is not a number"]);
+    // invalid values: the line of the key
+    let e = err(&[("m.obj", &o("a.mtl", "red")), ("a.mtl", "newmtl red\nKd 1.5 0 0\n")]);
+    assert_at(&e, "a.mtl", 2, &["material `red`", "Kd", "[0, 1]"]);
+    let e = err(&[("m.obj", &o("a.mtl", "red")), ("a.mtl", "newmtl red\nKd 0.5 0.5 0.5\nKe -1 0 0\n")]);
+    assert_at(&e, "a.mtl", 3, &["Ke"]);
+    let e = err(&[("m.obj", &o("a.mtl", "red")), ("a.mtl", "newmtl red\nNs -3\n")]);
+    assert_at(&e, "a.mtl", 2, &["Ns"]);
+    let e = err(&[("m.obj", &o("a.mtl", "red")), ("a.mtl", "newmtl red\nKd spectral r.rfl\n")]);
+    assert_at(&e, "a.mtl", 2, &["not supported"]);
+    // textures are ignored, whatever their options
+    let s =
+        ok(&[("m.obj", &o("a.mtl", "red")), ("a.mtl", "newmtl red\nKd 1 0 0\nmap_Kd -s 1 1 1 tex.png\nmap_d\nbump\n")]);
+    assert_eq!(s.materials.len(), 1);
+}
+
+#[test]
+fn oversized_files_are_refused_before_reading() {
+    let f = Files::new();
+    let p = f.path("huge.obj");
+    let file = std::fs::File::create(&p).unwrap();
+    // sparse: no disk space is used
+    if file.set_len(quasar_importers::MAX_OBJ_BYTES + 1).is_err() {
+        return;
+    }
+    let e = import_scene(&p, &ImportOptions::default()).unwrap_err();
+    assert_eq!(e.kind, ImportErrorKind::TooLarge);
+    assert!(e.to_string().contains("huge.obj"), "{e}");
+}
+
+#[test]
+fn binary_garbage_is_an_error_with_a_line() {
+    let f = Files::new();
+    let p = f.path("g.obj");
+    std::fs::write(&p, b"v 0 0 0\nv 1 0 0\n\xff\xd8\xff\xe0 JFIF\n").unwrap();
+    let e = import_scene(&p, &ImportOptions::default()).unwrap_err().to_string();
+    assert!(e.contains("g.obj:3: line is not valid UTF-8"), "{e}");
+}
+
+#[test]
+fn byte_order_marks_are_skipped() {
+    let o = format!("\u{feff}mtllib a.mtl\nusemtl red\n{TRI}");
+    let s = ok(&[("m.obj", &o), ("a.mtl", "\u{feff}newmtl red\nKd 1 0 0\n")]);
+    assert_eq!(s.meshes[0].positions.len(), 3);
+    assert_eq!(
+        s.materials[0].material,
+        Material::Diffuse { reflectance: Spectrum::RgbReflectance([1.0, 0.0, 0.0]), two_sided: true }
+    );
+}

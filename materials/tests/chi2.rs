@@ -1,0 +1,141 @@
+//! Chi-square goodness-of-fit tests of every non-delta BSDF's `sample_f` against its `pdf`
+//! (in the style of the pbrt-v4 and Mitsuba chi2 tests): directions binned on a (theta, phi)
+//! grid over the whole sphere, expected counts from Simpson integration of the pdf per bin,
+//! cells expecting < 5 pooled, one extra cell for failed samples, significance 0.01 over all
+//! tests (Sidak). The tests at the end check that the test rejects wrong pdfs and samplers.
+
+mod common;
+
+use common::{Chi2, chi2_bsdf, chi2_directions, dir, gamma_q, sidak};
+use glam::Vec3;
+use quasar_materials::bsdf::{ConductorBsdf, DielectricBsdf, DiffuseBsdf, SampledFresnel, TrowbridgeReitz};
+use quasar_materials::spectrum::SampledSpectrum;
+use quasar_materials::{Bsdf, TransportMode};
+
+/// Samples per configuration.
+const N: usize = 500_000;
+/// Number of configurations tested below (for the Sidak correction).
+const N_TESTS: usize = 28;
+
+fn diffuse(two_sided: bool) -> Bsdf {
+    Bsdf::Diffuse(DiffuseBsdf::new(SampledSpectrum::splat(0.8), two_sided))
+}
+
+fn conductor(alpha: f32, two_sided: bool) -> Bsdf {
+    let gold = SampledFresnel::Complex {
+        eta: SampledSpectrum([1.4, 0.4, 0.2, 0.15]),
+        k: SampledSpectrum([1.9, 2.5, 3.3, 4.5]),
+    };
+    Bsdf::Conductor(ConductorBsdf::new(TrowbridgeReitz::new(alpha), gold, two_sided))
+}
+
+fn dielectric(eta: f32, alpha: f32) -> Bsdf {
+    Bsdf::Dielectric(DielectricBsdf::new(eta, TrowbridgeReitz::new(alpha)))
+}
+
+fn check(name: &str, r: Chi2) {
+    let alpha = sidak(N_TESTS);
+    println!("{name}: chi2 = {:.1}, dof = {}, p = {:.4}", r.stat, r.dof, r.p);
+    assert!(r.p > alpha, "{name}: sampling does not match pdf: {r:?} (significance {alpha:.2e})");
+}
+
+#[test]
+fn chi2_diffuse() {
+    for (k, (two_sided, cz)) in [(false, 1.0f32), (false, 0.05), (true, -0.6)].into_iter().enumerate() {
+        check(
+            &format!("diffuse two_sided={two_sided} cos={cz}"),
+            chi2_bsdf(&diffuse(two_sided), dir(cz), N, 100 + k as u64),
+        );
+    }
+}
+
+#[test]
+fn chi2_rough_conductor() {
+    let mut seed = 200;
+    for alpha in [0.05f32, 0.3, 1.0] {
+        for cz in [1.0f32, 0.5, 0.05] {
+            seed += 1;
+            check(&format!("conductor alpha={alpha} cos={cz}"), chi2_bsdf(&conductor(alpha, false), dir(cz), N, seed));
+        }
+    }
+    check("conductor two-sided from below", chi2_bsdf(&conductor(0.3, true), dir(-0.7), N, 299));
+}
+
+fn chi2_dielectric_eta_1_5(cosines: [f32; 3], seed: u64) {
+    for (k, alpha) in [0.05f32, 0.3].into_iter().enumerate() {
+        for (l, cz) in cosines.into_iter().enumerate() {
+            let seed = seed + 10 * k as u64 + l as u64;
+            check(
+                &format!("dielectric eta=1.5 alpha={alpha} cos={cz}"),
+                chi2_bsdf(&dielectric(1.5, alpha), dir(cz), N, seed),
+            );
+        }
+    }
+}
+
+#[test]
+fn chi2_rough_dielectric_from_outside() {
+    chi2_dielectric_eta_1_5([0.9, 0.4, 0.05], 300);
+    check("dielectric eta=0.7 alpha=1 cos=0.3", chi2_bsdf(&dielectric(0.7, 1.0), dir(0.3), N, 330));
+}
+
+#[test]
+fn chi2_rough_dielectric_from_inside() {
+    // |cos| < 0.745 is beyond the critical angle of eta = 1.5.
+    chi2_dielectric_eta_1_5([-0.9, -0.4, -0.05], 350);
+    for (k, cz) in [0.6f32, -0.95].into_iter().enumerate() {
+        check(
+            &format!("dielectric eta=4 alpha=0.3 cos={cz}"),
+            chi2_bsdf(&dielectric(4.0, 0.3), dir(cz), N, 380 + k as u64),
+        );
+    }
+}
+
+#[test]
+fn survival_function_matches_closed_forms() {
+    // Q(1, x) = exp(-x) (2 degrees of freedom); Q(1/2, x) = erfc(sqrt x).
+    for x in [0.01f64, 0.5, 1.0, 3.0, 10.0, 40.0] {
+        assert!((gamma_q(1.0, x) - (-x).exp()).abs() < 1e-12 * (1.0 + (-x).exp()) + 1e-14, "{x}");
+    }
+    assert!((gamma_q(0.5, 1.0) - 0.157_299_207_050_285).abs() < 1e-10);
+    // Median of chi-square with 100 dof is about 99.33.
+    assert!((gamma_q(50.0, 99.334_1 / 2.0) - 0.5).abs() < 1e-3);
+}
+
+/// The test must be able to fail: a pdf 1.2 times too large on half the sphere, a sampler with a
+/// slightly different roughness and a dielectric pdf with the wrong IOR are all rejected.
+#[test]
+fn chi2_rejects_wrong_pdfs_and_samplers() {
+    let alpha = sidak(N_TESTS);
+    let mode = TransportMode::Radiance;
+    let wo = dir(0.5);
+    let b = conductor(0.3, false);
+    let biased = chi2_directions(
+        N,
+        500,
+        |uc, u| b.sample_f(wo, uc, u, mode).map(|s| s.wi),
+        |wi: Vec3| f64::from(b.pdf(wo, wi, mode)) * if wi.y > 0.0 { 1.2 } else { 1.0 },
+    );
+    println!("biased pdf: {biased:?}");
+    assert!(biased.p < alpha * 1e-3, "{biased:?}");
+
+    let other = conductor(0.33, false);
+    let wrong_alpha = chi2_directions(
+        N,
+        501,
+        |uc, u| other.sample_f(wo, uc, u, mode).map(|s| s.wi),
+        |wi: Vec3| f64::from(b.pdf(wo, wi, mode)),
+    );
+    println!("alpha 0.33 sampler vs 0.3 pdf: {wrong_alpha:?}");
+    assert!(wrong_alpha.p < alpha * 1e-3, "{wrong_alpha:?}");
+
+    let (glass, denser) = (dielectric(1.5, 0.3), dielectric(1.6, 0.3));
+    let wrong_eta = chi2_directions(
+        N,
+        502,
+        |uc, u| glass.sample_f(wo, uc, u, mode).map(|s| s.wi),
+        |wi: Vec3| f64::from(denser.pdf(wo, wi, mode)),
+    );
+    println!("eta 1.5 sampler vs 1.6 pdf: {wrong_eta:?}");
+    assert!(wrong_eta.p < alpha * 1e-3, "{wrong_eta:?}");
+}

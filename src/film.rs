@@ -1,0 +1,133 @@
+//! The film: per-pixel accumulation of the radiance layers in CIE XYZ, and their conversion to
+//! the output AOV channels (DESIGN.md section 5).
+
+use quasar_materials::spectrum::SampledWavelengths;
+use quasar_materials::spectrum::color::xyz_to_linear_srgb;
+
+use crate::integrator::LayeredRadiance;
+
+/// Number of radiance layers (emission, direct, indirect).
+pub const N_LAYERS: usize = 3;
+/// Names of the radiance layers, in accumulation order.
+pub const LAYER_NAMES: [&str; N_LAYERS] = ["emission", "direct", "indirect"];
+
+/// Sum of XYZ per layer for one pixel, in f64 so long renders do not lose precision.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PixelSum {
+    /// [layer][X, Y, Z].
+    pub xyz: [[f64; 3]; N_LAYERS],
+    /// Samples accumulated (including rejected non-finite ones, which count as zero).
+    pub samples: u64,
+    /// Samples whose value was not finite and was dropped.
+    pub rejected: u64,
+}
+
+impl PixelSum {
+    /// Adds one path's layered radiance at wavelengths `wl`. A sample with any non-finite
+    /// component is replaced by zero (and counted), so no NaN/inf can reach a pixel.
+    #[inline]
+    pub fn add(&mut self, l: &LayeredRadiance, wl: &SampledWavelengths) {
+        let layers = [wl.to_xyz(l.emission), wl.to_xyz(l.direct), wl.to_xyz(l.indirect)];
+        self.samples += 1;
+        if layers.iter().flatten().any(|v| !v.is_finite()) {
+            self.rejected += 1;
+            return;
+        }
+        for (acc, v) in self.xyz.iter_mut().zip(layers) {
+            for k in 0..3 {
+                acc[k] += v[k] as f64;
+            }
+        }
+    }
+
+    /// Adds another sum (same pixel, disjoint samples).
+    pub fn merge(&mut self, o: &PixelSum) {
+        for l in 0..N_LAYERS {
+            for k in 0..3 {
+                self.xyz[l][k] += o.xyz[l][k];
+            }
+        }
+        self.samples += o.samples;
+        self.rejected += o.rejected;
+    }
+}
+
+/// An image of pixel sums, row-major, row 0 at the top.
+#[derive(Clone, Debug)]
+pub struct Film {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Pixel sums.
+    pub pixels: Vec<PixelSum>,
+}
+
+/// A named float channel of an output image.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Channel {
+    /// EXR channel name, `layer.channel` (Blender/Nuke convention) or a bare beauty channel.
+    pub name: String,
+    /// Row-major values, row 0 at the top.
+    pub values: Vec<f32>,
+}
+
+impl Film {
+    /// An empty film.
+    pub fn new(width: u32, height: u32) -> Self {
+        Self { width, height, pixels: vec![PixelSum::default(); width as usize * height as usize] }
+    }
+
+    /// Mean XYZ of `layer` at pixel `i`.
+    pub fn mean_xyz(&self, i: usize, layer: usize) -> [f64; 3] {
+        let p = &self.pixels[i];
+        if p.samples == 0 {
+            return [0.0; 3];
+        }
+        p.xyz[layer].map(|v| v / p.samples as f64)
+    }
+
+    /// Output channels: beauty `R,G,B`, luminance `Y`, and `<layer>.R/G/B` for every layer.
+    /// Beauty is the sum of the layers' RGB, so beauty = emission + direct + indirect exactly
+    /// up to one float rounding per addition.
+    pub fn channels(&self) -> Vec<Channel> {
+        let n = self.pixels.len();
+        let mut beauty = [vec![0.0f32; n], vec![0.0f32; n], vec![0.0f32; n]];
+        let mut y = vec![0.0f32; n];
+        let mut layers: Vec<[Vec<f32>; 3]> = (0..N_LAYERS).map(|_| [vec![0.0; n], vec![0.0; n], vec![0.0; n]]).collect();
+        for i in 0..n {
+            let mut sum_rgb = [0.0f32; 3];
+            let mut sum_y = 0.0f32;
+            for (l, layer) in layers.iter_mut().enumerate() {
+                let xyz = self.mean_xyz(i, l).map(|v| v as f32);
+                let rgb = xyz_to_linear_srgb(xyz);
+                for k in 0..3 {
+                    layer[k][i] = rgb[k];
+                    sum_rgb[k] += rgb[k];
+                }
+                sum_y += xyz[1];
+            }
+            for k in 0..3 {
+                beauty[k][i] = sum_rgb[k];
+            }
+            y[i] = sum_y;
+        }
+        let mut out = Vec::new();
+        for (k, c) in ["R", "G", "B"].iter().enumerate() {
+            out.push(Channel { name: c.to_string(), values: std::mem::take(&mut beauty[k]) });
+        }
+        out.push(Channel { name: "Y".into(), values: y });
+        for (l, layer) in layers.into_iter().enumerate() {
+            for (k, values) in layer.into_iter().enumerate() {
+                out.push(Channel { name: format!("{}.{}", LAYER_NAMES[l], ["R", "G", "B"][k]), values });
+            }
+        }
+        out.push(Channel { name: "spp.Y".into(), values: self.pixels.iter().map(|p| p.samples as f32).collect() });
+        out
+    }
+
+    /// Total number of rejected (non-finite) samples.
+    pub fn rejected_samples(&self) -> u64 {
+        self.pixels.iter().map(|p| p.rejected).sum()
+    }
+}

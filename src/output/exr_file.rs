@@ -1,0 +1,147 @@
+//! Single-part, multi-layer float32 OpenEXR files with `layer.channel` names (DESIGN.md section 5),
+//! written atomically (temporary file in the same directory, then rename).
+
+use std::path::{Path, PathBuf};
+
+use exr::prelude::*;
+
+use crate::film::Channel;
+
+/// An image as named float channels plus text metadata.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExrImage {
+    /// Width in pixels.
+    pub width: usize,
+    /// Height in pixels.
+    pub height: usize,
+    /// Channels (any order; written sorted by name as EXR requires).
+    pub channels: Vec<Channel>,
+    /// Render metadata as ordered key/value pairs, stored in one text attribute `quasar` as
+    /// `key=value` lines (one attribute keeps the header byte-for-byte deterministic).
+    pub metadata: Vec<(String, String)>,
+}
+
+/// Error reading or writing an EXR file.
+#[derive(Debug, thiserror::Error)]
+pub enum ExrError {
+    /// I/O or encoding error, with the file.
+    #[error("{path}: {msg}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What went wrong.
+        msg: String,
+    },
+}
+
+impl ExrImage {
+    /// The channel called `name`.
+    pub fn channel(&self, name: &str) -> Option<&[f32]> {
+        self.channels.iter().find(|c| c.name == name).map(|c| c.values.as_slice())
+    }
+
+    /// The metadata value for `key`.
+    pub fn meta(&self, key: &str) -> Option<&str> {
+        self.metadata.iter().find(|(k, _)| k == key).map(|(_, v)| v.as_str())
+    }
+}
+
+fn temp_path(path: &Path) -> PathBuf {
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "out.exr".into());
+    path.with_file_name(format!(".{name}.tmp{}", std::process::id()))
+}
+
+/// Writes `img` to `path` via a temporary file and a rename, so `path` is either the old file or
+/// the complete new one, never a truncated file.
+pub fn write_exr_atomic(img: &ExrImage, path: &Path) -> std::result::Result<(), ExrError> {
+    let err = |msg: String| ExrError::Io { path: path.to_path_buf(), msg };
+    for c in &img.channels {
+        if c.values.len() != img.width * img.height {
+            return Err(err(format!("channel {} has {} values for {}x{}", c.name, c.values.len(), img.width, img.height)));
+        }
+    }
+    let channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = img
+        .channels
+        .iter()
+        .map(|c| AnyChannel::new(c.name.as_str(), FlatSamples::F32(c.values.clone())))
+        .collect();
+    let mut attrs = LayerAttributes::default();
+    attrs.software_name = Some(Text::from(concat!("quasar ", env!("CARGO_PKG_VERSION"))));
+    let meta: String = img.metadata.iter().map(|(k, v)| format!("{k}={v}\n")).collect();
+    attrs.other.insert(Text::from("quasar"), AttributeValue::Text(Text::from(meta.as_str())));
+    let layer = Layer::new((img.width, img.height), attrs, Encoding::SMALL_LOSSLESS, AnyChannels::sort(channels));
+    let image = Image::from_layer(layer);
+    let tmp = temp_path(path);
+    if let Err(e) = image.write().to_file(&tmp) {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(err(format!("writing {}: {e}", tmp.display())));
+    }
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        err(format!("renaming {} into place: {e}", tmp.display()))
+    })
+}
+
+/// Reads a single-part EXR written by quasar (or any flat EXR) into named f32 channels.
+pub fn read_exr(path: &Path) -> std::result::Result<ExrImage, ExrError> {
+    let err = |msg: String| ExrError::Io { path: path.to_path_buf(), msg };
+    let image = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .first_valid_layer()
+        .all_attributes()
+        .from_file(path)
+        .map_err(|e| err(e.to_string()))?;
+    let layer = &image.layer_data;
+    let size = layer.size;
+    let channels = layer
+        .channel_data
+        .list
+        .iter()
+        .map(|c| Channel { name: c.name.to_string(), values: c.sample_data.values_as_f32().collect() })
+        .collect();
+    let mut metadata = Vec::new();
+    if let Some(AttributeValue::Text(t)) = layer.attributes.other.get(&Text::from("quasar")) {
+        for line in t.to_string().lines() {
+            if let Some((k, v)) = line.split_once('=') {
+                metadata.push((k.to_string(), v.to_string()));
+            }
+        }
+    }
+    Ok(ExrImage { width: size.0, height: size.1, channels, metadata })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn round_trip_and_atomic_failure() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("a.exr");
+        let img = ExrImage {
+            width: 3,
+            height: 2,
+            channels: vec![
+                Channel { name: "R".into(), values: vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0] },
+                Channel { name: "direct.R".into(), values: vec![0.5; 6] },
+                Channel { name: "depth.Z".into(), values: vec![f32::INFINITY; 6] },
+            ],
+            metadata: vec![("method".into(), "pt".into()), ("spp".into(), "4".into())],
+        };
+        write_exr_atomic(&img, &path).unwrap();
+        let back = read_exr(&path).unwrap();
+        assert_eq!(back.width, 3);
+        assert_eq!(back.channel("R").unwrap(), &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
+        assert_eq!(back.channel("direct.R").unwrap(), &[0.5; 6]);
+        assert_eq!(back.meta("spp"), Some("4"));
+        // A failing write leaves the existing file untouched and no temporary behind.
+        let before = std::fs::read(&path).unwrap();
+        let mut bad = img.clone();
+        bad.channels[0].values.pop();
+        assert!(write_exr_atomic(&bad, &path).is_err());
+        assert_eq!(std::fs::read(&path).unwrap(), before);
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+    }
+}

@@ -1,0 +1,7 @@
+//! Writing images: multi-layer OpenEXR (atomic) and tone-mapped PNG previews.
+
+pub mod exr_file;
+pub mod preview;
+
+pub use exr_file::{ExrImage, read_exr, write_exr_atomic};
+pub use preview::write_preview_png;

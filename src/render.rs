@@ -1,0 +1,138 @@
+//! The render driver: runs an integrator over the image in passes of samples, in parallel with
+//! rayon, deterministically (every pixel's samples use their own hashed random streams and are
+//! summed in sample order, so the result does not depend on the thread count or scheduling).
+
+use std::time::{Duration, Instant};
+
+use glam::Vec2;
+use indicatif::{ProgressBar, ProgressStyle};
+use quasar_materials::spectrum::SampledWavelengths;
+use rayon::prelude::*;
+
+use crate::camera::Camera;
+use crate::film::{Film, PixelSum};
+use crate::integrator::{PtSettings, pt};
+use crate::sampling::Sampler;
+use crate::scene::Scene;
+
+/// How long to render and with what randomness.
+#[derive(Clone, Debug)]
+pub struct RenderOptions {
+    /// Samples per pixel (the total, or the cap when `time_limit` is set).
+    pub spp: u32,
+    /// Stop starting new passes after this many seconds (at least one pass always runs).
+    pub time_limit: Option<f64>,
+    /// Seed of all random streams.
+    pub seed: u64,
+    /// Worker threads (None = all cores).
+    pub threads: Option<usize>,
+    /// Path tracer settings.
+    pub pt: PtSettings,
+    /// Show a progress bar on stderr.
+    pub progress: bool,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        Self { spp: 16, time_limit: None, seed: 0, threads: None, pt: PtSettings::default(), progress: false }
+    }
+}
+
+/// What a render produced.
+#[derive(Clone, Debug)]
+pub struct RenderResult {
+    /// Accumulated layers.
+    pub film: Film,
+    /// Camera distance of the first hit along the pixel-centre ray (infinity for misses).
+    pub depth: Vec<f32>,
+    /// Samples per pixel actually taken.
+    pub spp: u32,
+    /// Wall-clock seconds spent rendering (excluding scene loading).
+    pub seconds: f64,
+    /// Threads used.
+    pub threads: usize,
+}
+
+/// One sample of pixel (x, y): jittered camera ray, fresh hero wavelengths, one path.
+#[inline]
+fn sample_pixel(scene: &Scene, camera: &Camera, opts: &RenderOptions, x: u32, y: u32, s: u32, acc: &mut PixelSum) {
+    let index = y as u64 * camera.width() as u64 + x as u64;
+    let mut sampler = Sampler::new(opts.seed, index, s as u64);
+    let mut wl = SampledWavelengths::sample_visible(sampler.get_1d());
+    let jitter = sampler.get_2d();
+    let ray = camera.ray(Vec2::new(x as f32, y as f32) + jitter);
+    let l = pt::radiance(scene, ray, &mut wl, &mut sampler, &opts.pt);
+    acc.add(&l, &wl);
+}
+
+/// Renders `scene` through `camera`.
+pub fn render(scene: &Scene, camera: &Camera, opts: &RenderOptions) -> RenderResult {
+    let threads = opts.threads.unwrap_or_else(rayon::current_num_threads).max(1);
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool");
+    pool.install(|| render_in_pool(scene, camera, opts, threads))
+}
+
+fn render_in_pool(scene: &Scene, camera: &Camera, opts: &RenderOptions, threads: usize) -> RenderResult {
+    let (w, h) = (camera.width(), camera.height());
+    let start = Instant::now();
+    let mut film = Film::new(w, h);
+    let spp_total = opts.spp.max(1);
+    let bar = progress_bar(opts, w as u64 * h as u64 * spp_total as u64);
+    let mut done = 0u32;
+    let mut pass = 1u32;
+    while done < spp_total {
+        let n = pass.min(spp_total - done);
+        film.pixels.par_chunks_mut(w as usize).enumerate().for_each(|(y, row)| {
+            for (x, acc) in row.iter_mut().enumerate() {
+                for s in done..done + n {
+                    sample_pixel(scene, camera, opts, x as u32, y as u32, s, acc);
+                }
+            }
+            if let Some(b) = &bar {
+                b.inc(w as u64 * n as u64);
+            }
+        });
+        done += n;
+        let elapsed = start.elapsed().as_secs_f64();
+        if let Some(limit) = opts.time_limit {
+            let per_spp = elapsed / done as f64;
+            if elapsed + per_spp >= limit {
+                break;
+            }
+            // next pass: as many samples as fit in the remaining time, at most doubling
+            pass = (((limit - elapsed) / per_spp) as u32).clamp(1, done.max(1));
+        } else {
+            pass = (pass * 2).min(64);
+        }
+    }
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    let depth = depth_pass(scene, camera);
+    RenderResult { film, depth, spp: done, seconds: start.elapsed().as_secs_f64(), threads }
+}
+
+fn progress_bar(opts: &RenderOptions, total: u64) -> Option<ProgressBar> {
+    if !opts.progress {
+        return None;
+    }
+    let bar = ProgressBar::new(total);
+    let style = ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {percent:>3}% ETA {eta}")
+        .unwrap_or_else(|_| ProgressStyle::default_bar());
+    bar.set_style(style);
+    bar.enable_steady_tick(Duration::from_millis(200));
+    Some(bar)
+}
+
+/// Distance to the first surface along each pixel-centre ray (infinity for misses).
+fn depth_pass(scene: &Scene, camera: &Camera) -> Vec<f32> {
+    let (w, h) = (camera.width(), camera.height());
+    (0..w as usize * h as usize)
+        .into_par_iter()
+        .map(|i| {
+            let (x, y) = ((i % w as usize) as f32, (i / w as usize) as f32);
+            let ray = camera.ray(Vec2::new(x + 0.5, y + 0.5));
+            scene.intersect(&ray).map_or(f32::INFINITY, |si| si.t)
+        })
+        .collect()
+}

@@ -1,0 +1,259 @@
+//! The compiled, render-time scene: BVH, materials, lights (DESIGN.md section 1: import ->
+//! SceneDesc -> **compile** -> integrate). Nothing here knows about file formats.
+
+use glam::Vec3;
+use quasar_importers::{LightDesc, SceneDesc};
+use quasar_materials::{Frame, Material};
+
+use crate::geometry::{Accel, Hit, NONE, Ray, TriangleGeom, TriangleInfo};
+use crate::light::{Emission, Light, LightSampler};
+
+/// Error compiling a scene description.
+#[derive(Debug, thiserror::Error)]
+pub enum CompileError {
+    /// A mesh refers to a material or vertex that does not exist.
+    #[error("{location}: mesh '{name}': {msg}")]
+    Mesh {
+        /// Mesh name.
+        name: String,
+        /// Where it was defined.
+        location: String,
+        /// What is wrong.
+        msg: String,
+    },
+    /// A light has invalid parameters.
+    #[error("light {index}: {msg}")]
+    Light {
+        /// Index in the scene's light list.
+        index: usize,
+        /// What is wrong.
+        msg: String,
+    },
+}
+
+/// A surface point hit by a ray.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceInteraction {
+    /// Position (computed from barycentrics).
+    pub p: Vec3,
+    /// Unit geometric normal (winding order; not flipped towards the ray).
+    pub ng: Vec3,
+    /// Unit shading normal, on the same side as `ng`.
+    pub ns: Vec3,
+    /// Distance along the ray.
+    pub t: f32,
+    /// Triangle index (BVH order).
+    pub prim: u32,
+    /// Material index.
+    pub material: u32,
+    /// Area light index or [`NONE`].
+    pub light: u32,
+}
+
+impl SurfaceInteraction {
+    /// The shading frame (z = shading normal).
+    pub fn frame(&self) -> Frame {
+        Frame::from_z(self.ns)
+    }
+
+    /// A ray leaving the surface in direction `w`, offset off the surface to the side of `w`.
+    pub fn spawn_ray(&self, w: Vec3) -> Ray {
+        Ray::new(crate::geometry::offset_origin(self.p, self.ng, w), w)
+    }
+
+    /// A shadow ray towards a point at distance `dist` in direction `w` (stops just short of it;
+    /// `dist` = infinity for distant lights).
+    pub fn spawn_shadow_ray(&self, w: Vec3, dist: f32) -> Ray {
+        let o = crate::geometry::offset_origin(self.p, self.ng, w);
+        let mut r = Ray::new(o, w);
+        if dist.is_finite() {
+            r.t_max = (dist * (1.0 - 1e-4)).max(0.0);
+        }
+        r
+    }
+}
+
+/// The render-time scene.
+pub struct Scene {
+    /// Triangles and BVH.
+    pub accel: Accel,
+    /// Materials (indexed by [`TriangleInfo::material`]).
+    pub materials: Vec<Material>,
+    /// Material names (same order).
+    pub material_names: Vec<String>,
+    /// Emission records of emissive meshes.
+    pub emissions: Vec<Emission>,
+    /// All lights.
+    pub lights: Vec<Light>,
+    /// Indices of lights at infinity.
+    pub infinite_lights: Vec<usize>,
+    /// Power-proportional light selection.
+    pub light_sampler: LightSampler,
+    /// Per-vertex shading normals, three per smooth triangle.
+    pub normals: Vec<Vec3>,
+    /// Centre of the bounding sphere.
+    pub center: Vec3,
+    /// Radius of the bounding sphere.
+    pub radius: f32,
+    /// Number of triangles that were dropped because a vertex was not finite.
+    pub dropped_triangles: usize,
+}
+
+impl Scene {
+    /// Compiles a scene description: validates indices, builds the BVH, the lights and the
+    /// light-selection distribution.
+    pub fn compile(desc: &SceneDesc) -> Result<Self, CompileError> {
+        let mut tris = Vec::new();
+        let mut infos = Vec::new();
+        let mut normals = Vec::new();
+        let mut emissions = Vec::new();
+        let mut lights = Vec::new();
+        let mut dropped = 0usize;
+        let mut lo = Vec3::splat(f32::INFINITY);
+        let mut hi = Vec3::splat(f32::NEG_INFINITY);
+        for (mi, m) in desc.meshes.iter().enumerate() {
+            let err = |msg: String| CompileError::Mesh { name: m.name.clone(), location: m.source.to_string(), msg };
+            if m.material >= desc.materials.len() {
+                return Err(err(format!("material index {} out of range", m.material)));
+            }
+            if let Some(n) = &m.normals
+                && n.len() != m.positions.len()
+            {
+                return Err(err(format!("{} normals for {} positions", n.len(), m.positions.len())));
+            }
+            let emission = match &m.emission {
+                Some(e) if e.scale > 0.0 && e.scale.is_finite() => {
+                    emissions.push(Emission { spectrum: e.spectrum.clone(), scale: e.scale, two_sided: e.two_sided });
+                    (emissions.len() - 1) as u32
+                }
+                _ => NONE,
+            };
+            for (ti, idx) in m.indices.iter().enumerate() {
+                let mut v = [Vec3::ZERO; 3];
+                for k in 0..3 {
+                    let i = idx[k] as usize;
+                    if i >= m.positions.len() {
+                        return Err(err(format!("triangle {ti} refers to vertex {i} of {}", m.positions.len())));
+                    }
+                    v[k] = m.positions[i];
+                }
+                if !v.iter().all(|p| p.is_finite()) {
+                    dropped += 1;
+                    continue;
+                }
+                let mut nidx = NONE;
+                if let Some(ns) = &m.normals {
+                    let n = [ns[idx[0] as usize], ns[idx[1] as usize], ns[idx[2] as usize]];
+                    if n.iter().all(|n| n.is_finite() && n.length_squared() > 0.0) {
+                        nidx = normals.len() as u32;
+                        normals.extend(n.iter().map(|n| n.normalize()));
+                    }
+                }
+                for p in v {
+                    lo = lo.min(p);
+                    hi = hi.max(p);
+                }
+                let mut light = NONE;
+                if emission != NONE {
+                    light = lights.len() as u32;
+                    lights.push(Light::Area { tri: TriangleGeom::new(v[0], v[1], v[2]), emission });
+                }
+                tris.push(v);
+                infos.push(TriangleInfo { material: m.material as u32, light, normals: nidx, mesh: mi as u32 });
+            }
+        }
+        let (center, radius) = if tris.is_empty() {
+            (Vec3::ZERO, 1.0)
+        } else {
+            let c = 0.5 * (lo + hi);
+            (c, (0.5 * (hi - lo).length()).max(1e-6))
+        };
+        let accel = Accel::build(&tris, &infos, Accel::default_params());
+        drop(tris);
+        for (index, l) in desc.lights.iter().enumerate() {
+            let lerr = |msg: &str| CompileError::Light { index, msg: msg.to_string() };
+            let light = match l {
+                LightDesc::Point { position, spectrum, scale } => {
+                    Light::Point { position: *position, spectrum: spectrum.clone(), scale: *scale }
+                }
+                LightDesc::Spot { position, direction, cone_deg, falloff_start_deg, spectrum, scale } => {
+                    let d = direction.normalize_or_zero();
+                    if d == Vec3::ZERO || !d.is_finite() {
+                        return Err(lerr("spot direction is zero"));
+                    }
+                    let total = cone_deg.clamp(0.0, 180.0).to_radians();
+                    let start = falloff_start_deg.clamp(0.0, *cone_deg).to_radians();
+                    Light::Spot {
+                        position: *position,
+                        frame: Frame::from_z(d),
+                        cos_total: total.cos(),
+                        cos_falloff_start: start.cos(),
+                        spectrum: spectrum.clone(),
+                        scale: *scale,
+                    }
+                }
+                LightDesc::Directional { direction, spectrum, scale } => {
+                    let d = direction.normalize_or_zero();
+                    if d == Vec3::ZERO || !d.is_finite() {
+                        return Err(lerr("directional light direction is zero"));
+                    }
+                    Light::Directional { direction: d, spectrum: spectrum.clone(), scale: *scale, scene_radius: radius }
+                }
+                LightDesc::Environment { spectrum, scale } => {
+                    Light::Environment { spectrum: spectrum.clone(), scale: *scale, scene_radius: radius }
+                }
+            };
+            lights.push(light);
+        }
+        let infinite_lights = lights.iter().enumerate().filter(|(_, l)| l.is_infinite()).map(|(i, _)| i).collect();
+        let light_sampler = LightSampler::new(&lights, &emissions);
+        Ok(Self {
+            accel,
+            materials: desc.materials.iter().map(|m| m.material.clone()).collect(),
+            material_names: desc.materials.iter().map(|m| m.name.clone()).collect(),
+            emissions,
+            lights,
+            infinite_lights,
+            light_sampler,
+            normals,
+            center,
+            radius,
+            dropped_triangles: dropped,
+        })
+    }
+
+    /// Closest surface hit along `ray`.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction> {
+        let h = self.accel.intersect(ray)?;
+        Some(self.interaction(ray, &h))
+    }
+
+    /// True when the segment of `ray` up to `t_max` is blocked.
+    #[inline]
+    pub fn occluded(&self, ray: &Ray) -> bool {
+        self.accel.occluded(ray)
+    }
+
+    fn interaction(&self, _ray: &Ray, h: &Hit) -> SurfaceInteraction {
+        let g = &self.accel.geom[h.prim as usize];
+        let info = &self.accel.info[h.prim as usize];
+        let p = g.point(h.b1, h.b2);
+        let ng = g.normal_unnormalised().normalize_or_zero();
+        let mut ns = ng;
+        if info.normals != NONE {
+            let n = &self.normals[info.normals as usize..info.normals as usize + 3];
+            let b0 = 1.0 - h.b1 - h.b2;
+            let s = (n[0] * b0 + n[1] * h.b1 + n[2] * h.b2).normalize_or_zero();
+            if s != Vec3::ZERO && s.is_finite() {
+                ns = if s.dot(ng) < 0.0 { -s } else { s };
+            }
+        }
+        SurfaceInteraction { p, ng, ns, t: h.t, prim: h.prim, material: info.material, light: info.light }
+    }
+
+    /// Number of triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.accel.geom.len()
+    }
+}

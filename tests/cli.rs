@@ -1,0 +1,98 @@
+//! The `quasar` command line: renders write an EXR; bad input gives an error naming file and
+//! line, a non-zero exit code, and leaves no output file behind (nor touches an existing one).
+
+mod common;
+
+use std::process::Command;
+
+use common::write_scene;
+
+fn quasar() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_quasar"))
+}
+
+const GOOD: &str = r#"
+[render]
+width = 8
+height = 6
+spp = 2
+[camera]
+position = [0, 0, 3]
+target = [0, 0, 0]
+fov_deg = 40
+[materials.grey]
+type = "diffuse"
+reflectance = 0.5
+[[shape]]
+type = "sphere"
+center = [0, 0, 0]
+radius = 1
+material = "grey"
+[[light]]
+type = "environment"
+spectrum = { illuminant = "D65" }
+scale = 1
+"#;
+
+#[test]
+fn render_writes_an_exr() {
+    let s = write_scene(GOOD, &[]);
+    let out = s.dir.path().join("good.exr");
+    let st = quasar().args(["render", "--quiet", "--seed", "1"]).arg(&s.path).arg("-o").arg(&out).status().unwrap();
+    assert!(st.success());
+    let img = quasar::output::read_exr(&out).unwrap();
+    assert_eq!((img.width, img.height), (8, 6));
+}
+
+fn expect_failure(scene: &common::TempScene, needle: &str) {
+    let out = scene.dir.path().join("out.exr");
+    let o = quasar().args(["render", "--quiet"]).arg(&scene.path).arg("-o").arg(&out).output().unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "expected failure, stderr: {stderr}");
+    assert!(stderr.contains(needle), "stderr should contain {needle:?}: {stderr}");
+    assert!(!out.exists(), "no output may be written on failure");
+    // an existing output is left untouched
+    std::fs::write(&out, b"previous").unwrap();
+    let o = quasar().args(["render", "--quiet"]).arg(&scene.path).arg("-o").arg(&out).output().unwrap();
+    assert!(!o.status.success());
+    assert_eq!(std::fs::read(&out).unwrap(), b"previous");
+}
+
+#[test]
+fn malformed_toml_names_file_and_line() {
+    let bad = GOOD.replace("radius = 1\n", "radius = = 1\n");
+    let line = bad.lines().position(|l| l.contains("radius = = 1")).unwrap() + 1;
+    let s = write_scene(&bad, &[]);
+    expect_failure(&s, &format!("scene.toml:{line}"));
+}
+
+#[test]
+fn unknown_key_names_file_and_line() {
+    let bad = GOOD.replace("radius = 1\n", "radius = 1\nradiuss = 2\n");
+    let line = bad.lines().position(|l| l.starts_with("radiuss")).unwrap() + 1;
+    let s = write_scene(&bad, &[]);
+    expect_failure(&s, &format!("scene.toml:{line}"));
+}
+
+#[test]
+fn malformed_obj_names_file_and_line() {
+    let scene = GOOD.replace(
+        "type = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\n",
+        "type = \"mesh\"\nfile = \"tri.obj\"\n",
+    );
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 zero\nf 1 2 3\n";
+    let s = write_scene(&scene, &[("tri.obj", obj)]);
+    expect_failure(&s, "tri.obj:3");
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n";
+    let s = write_scene(&scene, &[("tri.obj", obj)]);
+    expect_failure(&s, "tri.obj:4");
+}
+
+#[test]
+fn missing_scene_file_is_a_clear_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("nope.toml");
+    let o = quasar().args(["render", "--quiet"]).arg(&missing).output().unwrap();
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("nope.toml"));
+}
