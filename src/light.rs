@@ -297,8 +297,8 @@ mod tests {
         // facing down: E = integral L cos cos' / r^2 dA; compare MC estimate with a fine quadrature.
         let h = 0.5;
         let tris = [
-            TriangleGeom::new(Vec3::new(-0.5, h, -0.5), Vec3::new(0.5, h, 0.5), Vec3::new(0.5, h, -0.5)),
-            TriangleGeom::new(Vec3::new(-0.5, h, -0.5), Vec3::new(-0.5, h, 0.5), Vec3::new(0.5, h, 0.5)),
+            TriangleGeom::new(Vec3::new(-0.5, h, -0.5), Vec3::new(0.5, h, -0.5), Vec3::new(0.5, h, 0.5)),
+            TriangleGeom::new(Vec3::new(-0.5, h, -0.5), Vec3::new(0.5, h, 0.5), Vec3::new(-0.5, h, 0.5)),
         ];
         for t in &tris {
             assert!(t.normal_unnormalised().y < 0.0);

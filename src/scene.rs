@@ -36,6 +36,8 @@ pub enum CompileError {
 pub struct SurfaceInteraction {
     /// Position (computed from barycentrics).
     pub p: Vec3,
+    /// Absolute per-axis rounding-error bound of `p`.
+    pub p_err: Vec3,
     /// Unit geometric normal (winding order; not flipped towards the ray).
     pub ng: Vec3,
     /// Unit shading normal, on the same side as `ng`.
@@ -58,13 +60,13 @@ impl SurfaceInteraction {
 
     /// A ray leaving the surface in direction `w`, offset off the surface to the side of `w`.
     pub fn spawn_ray(&self, w: Vec3) -> Ray {
-        Ray::new(crate::geometry::offset_origin(self.p, self.ng, w), w)
+        Ray::new(crate::geometry::offset_origin(self.p, self.p_err, self.ng, w), w)
     }
 
     /// A shadow ray towards a point at distance `dist` in direction `w` (stops just short of it;
     /// `dist` = infinity for distant lights).
     pub fn spawn_shadow_ray(&self, w: Vec3, dist: f32) -> Ray {
-        let o = crate::geometry::offset_origin(self.p, self.ng, w);
+        let o = crate::geometry::offset_origin(self.p, self.p_err, self.ng, w);
         let mut r = Ray::new(o, w);
         if dist.is_finite() {
             r.t_max = (dist * (1.0 - 1e-4)).max(0.0);
@@ -238,7 +240,7 @@ impl Scene {
     fn interaction(&self, _ray: &Ray, h: &Hit) -> SurfaceInteraction {
         let g = &self.accel.geom[h.prim as usize];
         let info = &self.accel.info[h.prim as usize];
-        let p = g.point(h.b1, h.b2);
+        let (p, p_err) = g.point_with_error(h.b1, h.b2);
         let ng = g.normal_unnormalised().normalize_or_zero();
         let mut ns = ng;
         if info.normals != NONE {
@@ -249,7 +251,7 @@ impl Scene {
                 ns = if s.dot(ng) < 0.0 { -s } else { s };
             }
         }
-        SurfaceInteraction { p, ng, ns, t: h.t, prim: h.prim, material: info.material, light: info.light }
+        SurfaceInteraction { p, p_err, ng, ns, t: h.t, prim: h.prim, material: info.material, light: info.light }
     }
 
     /// Number of triangles.

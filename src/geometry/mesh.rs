@@ -60,6 +60,16 @@ impl TriangleGeom {
     pub fn point(&self, b1: f32, b2: f32) -> Vec3 {
         Vec3::from(self.v0 + self.e1 * b1 + self.e2 * b2)
     }
+
+    /// Point at barycentrics (b1, b2) with its absolute rounding-error bound
+    /// ([`super::ray::point_error`]), for robust ray spawning.
+    #[inline]
+    pub fn point_with_error(&self, b1: f32, b2: f32) -> (Vec3, Vec3) {
+        let v0 = Vec3::from(self.v0);
+        let a = Vec3::from(self.e1 * b1);
+        let b = Vec3::from(self.e2 * b2);
+        (v0 + a + b, super::ray::point_error(v0, a, b))
+    }
 }
 
 /// Shading data of one triangle (same order as the geometry).

@@ -20,26 +20,43 @@ impl Ray {
     }
 }
 
-/// Moves `p` off a surface with geometric normal `n` to the side `dir` points to, far enough that
-/// re-intersecting the same surface is impossible and close enough to be invisible at any scene
-/// scale. Integer-ULP offset of Waechter & Binder, "A Fast and Robust Method for Avoiding
-/// Self-Intersection" (Ray Tracing Gems, ch. 6): the offset grows with |p| (float spacing) and a
-/// fixed absolute floor covers points near the origin.
-pub fn offset_origin(p: Vec3, n: Vec3, dir: Vec3) -> Vec3 {
-    const ORIGIN: f32 = 1.0 / 32.0;
-    const FLOAT_SCALE: f32 = 1.0 / 65536.0;
-    const INT_SCALE: f32 = 256.0;
-    let n = if n.dot(dir) < 0.0 { -n } else { n };
-    let of_i = [(INT_SCALE * n.x) as i32, (INT_SCALE * n.y) as i32, (INT_SCALE * n.z) as i32];
-    let pa = p.to_array();
-    let na = n.to_array();
-    let mut out = [0.0f32; 3];
-    for k in 0..3 {
-        let delta = if pa[k] < 0.0 { -of_i[k] } else { of_i[k] };
-        let p_i = f32::from_bits((pa[k].to_bits() as i32).wrapping_add(delta) as u32);
-        out[k] = if pa[k].abs() < ORIGIN { pa[k] + FLOAT_SCALE * na[k] } else { p_i };
+/// Conservative bound on the relative rounding error of n floating-point operations,
+/// gamma(n) = n eps / (1 - n eps) with eps = 2^-24 (Higham; pbrt-v4 section 6.8.1).
+#[inline]
+pub const fn gamma(n: i32) -> f32 {
+    let e = n as f32 * (f32::EPSILON * 0.5);
+    e / (1.0 - e)
+}
+
+/// Absolute error bound of the hit point p = v0 + b1 e1 + b2 e2 evaluated in f32. Barycentric
+/// re-evaluation keeps p on the triangle's plane up to this rounding error, whatever the error
+/// of b1 and b2 (pbrt-v4 section 6.8.5).
+#[inline]
+pub fn point_error(v0: Vec3, b1e1: Vec3, b2e2: Vec3) -> Vec3 {
+    gamma(7) * (v0.abs() + b1e1.abs() + b2e2.abs())
+}
+
+/// Moves the point `p` (with per-axis absolute error bound `p_err`) off a surface with unit
+/// geometric normal `n`, to the side `dir` points to: first by the projection of the error box
+/// onto the normal, then by one float step away from the surface per axis, so the offset
+/// origin is provably on `dir`'s side of the surface (pbrt-v4 section 6.8.6). The offset scales
+/// with the coordinates' magnitudes, so it is invisible at any scene scale from 1e-4 to 1e5.
+pub fn offset_origin(p: Vec3, p_err: Vec3, n: Vec3, dir: Vec3) -> Vec3 {
+    let d = n.abs().dot(p_err);
+    let mut offset = d * n;
+    if dir.dot(n) < 0.0 {
+        offset = -offset;
     }
-    Vec3::from_array(out)
+    let mut po = (p + offset).to_array();
+    let off = offset.to_array();
+    for k in 0..3 {
+        if off[k] > 0.0 {
+            po[k] = po[k].next_up();
+        } else if off[k] < 0.0 {
+            po[k] = po[k].next_down();
+        }
+    }
+    Vec3::from_array(po)
 }
 
 #[cfg(test)]
@@ -51,12 +68,46 @@ mod tests {
         let n = Vec3::new(0.3, -0.5, 0.8).normalize();
         for scale in [1e-4f32, 1e-2, 1.0, 1e3, 1e5] {
             let p = Vec3::new(0.7, -1.3, 2.1) * scale;
-            let up = offset_origin(p, n, n);
-            let down = offset_origin(p, n, -n);
+            let err = point_error(p, Vec3::ZERO, Vec3::ZERO);
+            let up = offset_origin(p, err, n, n);
+            let down = offset_origin(p, err, n, -n);
             assert!((up - p).dot(n) > 0.0, "scale {scale}");
             assert!((down - p).dot(n) < 0.0, "scale {scale}");
             // the offset is tiny relative to the scene scale
-            assert!((up - p).length() < 1e-3 * scale.max(1e-2));
+            assert!((up - p).length() < 1e-5 * scale, "scale {scale}: {}", (up - p).length());
+        }
+    }
+
+    #[test]
+    fn offset_points_never_reintersect_their_triangle() {
+        use crate::geometry::TriangleGeom;
+        use glam::Vec3A;
+        // A tilted triangle far from the origin; rays leaving each hit point along the
+        // reflected direction must not hit the same triangle again.
+        for scale in [1e-4f32, 1.0, 1e5] {
+            let v0 = Vec3::new(3.1, 7.3, -2.2) * scale;
+            let v1 = v0 + Vec3::new(1.0, 0.2, 0.1) * scale;
+            let v2 = v0 + Vec3::new(0.1, 0.3, 1.0) * scale;
+            let tri = TriangleGeom::new(v0, v1, v2);
+            let n = tri.normal_unnormalised().normalize();
+            let mut misses = 0;
+            for i in 0..200 {
+                let b1 = (i as f32 * 0.618).fract() * 0.5;
+                let b2 = (i as f32 * 0.414).fract() * 0.5;
+                let d_in = (-n + Vec3::new(0.3, (i as f32).sin() * 0.2, 0.1)).normalize();
+                let o = tri.point(b1, b2) - d_in * scale;
+                let Some((_t, h1, h2)) = tri.intersect(o.into(), d_in.into(), 0.0, f32::INFINITY) else {
+                    misses += 1;
+                    continue;
+                };
+                let (p, err) = tri.point_with_error(h1, h2);
+                let d_out = d_in - 2.0 * d_in.dot(n) * n;
+                let po = offset_origin(p, err, n, d_out);
+                assert!(tri.intersect(Vec3A::from(po), d_out.into(), 0.0, f32::INFINITY).is_none(), "scale {scale}");
+                let po = offset_origin(p, err, n, d_in);
+                assert!(tri.intersect(Vec3A::from(po), d_in.into(), 0.0, f32::INFINITY).is_none(), "scale {scale}");
+            }
+            assert!(misses < 10);
         }
     }
 }
