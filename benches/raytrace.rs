@@ -80,10 +80,8 @@ fn bench_accel(c: &mut Criterion, name: &str, tris: &[[Vec3; 3]], camera: &Camer
     let accel = Accel::build(tris, &infos, Accel::default_params());
     let sets = ray_sets(&accel, camera, center, radius);
     // obvhs' own path for the baseline: its Triangle::intersect through primitive_indices
-    let obv: Vec<obvhs::triangle::Triangle> = tris
-        .iter()
-        .map(|t| obvhs::triangle::Triangle { v0: t[0].into(), v1: t[1].into(), v2: t[2].into() })
-        .collect();
+    let obv: Vec<obvhs::triangle::Triangle> =
+        tris.iter().map(|t| obvhs::triangle::Triangle { v0: t[0].into(), v1: t[1].into(), v2: t[2].into() }).collect();
     let obvh = obvhs::cwbvh::builder::build_cwbvh_from_tris(&obv, Accel::default_params(), &mut Default::default());
 
     for threads in [1usize, 2] {

@@ -6,10 +6,12 @@ use quasar_materials::spectrum::color::xyz_to_linear_srgb;
 
 use crate::integrator::LayeredRadiance;
 
-/// Number of radiance layers (emission, direct, indirect).
-pub const N_LAYERS: usize = 3;
+/// Number of radiance layers (emission, direct, indirect, caustic).
+pub const N_LAYERS: usize = 4;
 /// Names of the radiance layers, in accumulation order.
-pub const LAYER_NAMES: [&str; N_LAYERS] = ["emission", "direct", "indirect"];
+pub const LAYER_NAMES: [&str; N_LAYERS] = ["emission", "direct", "indirect", "caustic"];
+/// The layers whose sum is the beauty image (`caustic` is a part of `indirect`).
+pub const BEAUTY_LAYERS: usize = 3;
 
 /// Sum of XYZ per layer for one pixel, in f64 so long renders do not lose precision.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -27,7 +29,7 @@ impl PixelSum {
     /// component is replaced by zero (and counted), so no NaN/inf can reach a pixel.
     #[inline]
     pub fn add(&mut self, l: &LayeredRadiance, wl: &SampledWavelengths) {
-        let layers = [wl.to_xyz(l.emission), wl.to_xyz(l.direct), wl.to_xyz(l.indirect)];
+        let layers = [wl.to_xyz(l.emission), wl.to_xyz(l.direct), wl.to_xyz(l.indirect), wl.to_xyz(l.caustic)];
         self.samples += 1;
         if layers.iter().flatten().any(|v| !v.is_finite()) {
             self.rejected += 1;
@@ -88,13 +90,15 @@ impl Film {
     }
 
     /// Output channels: beauty `R,G,B`, luminance `Y`, and `<layer>.R/G/B` for every layer.
-    /// Beauty is the sum of the layers' RGB, so beauty = emission + direct + indirect exactly
-    /// up to one float rounding per addition.
+    /// Beauty is the sum of the emission, direct and indirect layers' RGB, so beauty = emission +
+    /// direct + indirect exactly up to one float rounding per addition; `caustic` is the part of
+    /// `indirect` that reached its diffuse vertex through specular events only.
     pub fn channels(&self) -> Vec<Channel> {
         let n = self.pixels.len();
         let mut beauty = [vec![0.0f32; n], vec![0.0f32; n], vec![0.0f32; n]];
         let mut y = vec![0.0f32; n];
-        let mut layers: Vec<[Vec<f32>; 3]> = (0..N_LAYERS).map(|_| [vec![0.0; n], vec![0.0; n], vec![0.0; n]]).collect();
+        let mut layers: Vec<[Vec<f32>; 3]> =
+            (0..N_LAYERS).map(|_| [vec![0.0; n], vec![0.0; n], vec![0.0; n]]).collect();
         for i in 0..n {
             let mut sum_rgb = [0.0f32; 3];
             let mut sum_y = 0.0f32;
@@ -103,9 +107,13 @@ impl Film {
                 let rgb = xyz_to_linear_srgb(xyz);
                 for k in 0..3 {
                     layer[k][i] = rgb[k];
-                    sum_rgb[k] += rgb[k];
                 }
-                sum_y += xyz[1];
+                if l < BEAUTY_LAYERS {
+                    for k in 0..3 {
+                        sum_rgb[k] += rgb[k];
+                    }
+                    sum_y += xyz[1];
+                }
             }
             for k in 0..3 {
                 beauty[k][i] = sum_rgb[k];

@@ -10,6 +10,7 @@ use quasar_importers::{ImportOptions, SceneDesc, import_scene};
 use crate::camera::Camera;
 use crate::film::Channel;
 use crate::integrator::PtSettings;
+use crate::integrator::vismap::{self, VismapRun, VismapSettings};
 use crate::output::{ExrImage, write_exr_atomic, write_preview_png};
 use crate::render::{RenderOptions, RenderResult, render};
 use crate::scene::Scene;
@@ -21,6 +22,8 @@ pub enum Method {
     Auto,
     /// Reference path tracer.
     Pt,
+    /// Bidirectional tracing with visibility maps at a fixed gather depth.
+    Vismap,
 }
 
 impl Method {
@@ -29,8 +32,9 @@ impl Method {
         match name {
             "auto" => Ok(Self::Auto),
             "pt" => Ok(Self::Pt),
-            "vismap" | "adaptive" | "quasi" | "adaptive+quasi" => {
-                bail!("method '{name}' is not available in this build yet (available: auto, pt)")
+            "vismap" => Ok(Self::Vismap),
+            "adaptive" | "quasi" | "adaptive+quasi" => {
+                bail!("method '{name}' is not available in this build yet (available: auto, pt, vismap)")
             }
             _ => bail!("unknown method '{name}' (expected auto, pt, vismap, adaptive, quasi or adaptive+quasi)"),
         }
@@ -49,6 +53,7 @@ impl Method {
         match self {
             Self::Auto => "auto",
             Self::Pt => "pt",
+            Self::Vismap => "vismap",
         }
     }
 }
@@ -72,6 +77,16 @@ pub struct JobOverrides {
     pub max_depth: Option<u32>,
     /// Method name.
     pub method: Option<String>,
+    /// `vismap`: iterations (default: the scene's spp).
+    pub iterations: Option<u32>,
+    /// `vismap`: photons per iteration (default: one per pixel).
+    pub photons_per_iteration: Option<u64>,
+    /// `vismap`: gather depth.
+    pub gather_depth: Option<u32>,
+    /// `vismap`: initial gather radius in scene units (default: from the pixel footprint).
+    pub radius: Option<f32>,
+    /// `vismap`: radius reduction alpha.
+    pub alpha: Option<f32>,
 }
 
 /// A finished render with everything needed to write it.
@@ -106,6 +121,13 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     let max_depth = ov.max_depth.or(r.max_depth);
     let method = Method::from_name(ov.method.as_deref().unwrap_or(&r.method))?;
 
+    let vismap_cfg = if method == Method::Vismap {
+        Some(vismap_settings(ov, if time_s.is_some() { u32::MAX / 2 } else { spp })?)
+    } else if vismap_flags_given(ov) {
+        bail!("--iterations, --photons-per-iteration, --gather-depth, --radius and --alpha apply to --method vismap");
+    } else {
+        None
+    };
     let scene = Scene::compile(desc).context("compiling the scene")?;
     let camera = Camera::new(&desc.camera, width, height).with_context(|| desc.source.display().to_string())?;
     let resolved = method.resolve(&scene);
@@ -118,10 +140,34 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         pt: PtSettings { max_depth, ..PtSettings::default() },
         progress,
     };
-    let result = render(&scene, &camera, &opts);
+    let threads = opts.threads.unwrap_or_else(rayon::current_num_threads).max(1);
+    let mut metadata = Vec::new();
+    let result = match (resolved, vismap_cfg) {
+        (Method::Vismap, Some(v)) => {
+            let run = VismapRun { seed, time_limit: time_s, progress };
+            let (result, stats) = vismap::render(&scene, &camera, &v, &run, threads);
+            metadata.extend([
+                ("iterations".to_string(), result.spp.to_string()),
+                (
+                    "photons_per_iteration".into(),
+                    v.photons_per_iteration.unwrap_or(width as u64 * height as u64).to_string(),
+                ),
+                ("photons".into(), stats.photons.to_string()),
+                ("gather_depth".into(), v.gather_depth.to_string()),
+                (
+                    "radius".into(),
+                    v.radius.map_or(format!("auto ({} pixel footprints)", v.radius_pixels), |r| r.to_string()),
+                ),
+                ("caustic_radius_ratio".into(), v.caustic_ratio.to_string()),
+                ("alpha".into(), v.alpha.to_string()),
+            ]);
+            result
+        }
+        _ => render(&scene, &camera, &opts),
+    };
     let mut channels = result.film.channels();
     channels.push(Channel { name: "depth.Z".into(), values: result.depth.clone() });
-    let metadata = vec![
+    let mut header = vec![
         ("software".into(), concat!("quasar ", env!("CARGO_PKG_VERSION")).to_string()),
         ("scene".into(), desc.source.display().to_string()),
         ("method".into(), resolved.name().to_string()),
@@ -137,8 +183,48 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         ("threads".into(), result.threads.to_string()),
         ("render_time_s".into(), format!("{:.3}", result.seconds)),
     ];
+    header.extend(metadata);
+    let metadata = header;
     let image = ExrImage { width: width as usize, height: height as usize, channels, metadata };
     Ok(JobOutput { image, result })
+}
+
+fn vismap_flags_given(ov: &JobOverrides) -> bool {
+    ov.iterations.is_some()
+        || ov.photons_per_iteration.is_some()
+        || ov.gather_depth.is_some()
+        || ov.radius.is_some()
+        || ov.alpha.is_some()
+}
+
+/// `vismap` settings from the overrides; iterations default to the scene's spp.
+fn vismap_settings(ov: &JobOverrides, spp: u32) -> Result<VismapSettings> {
+    let mut v = VismapSettings { iterations: ov.iterations.unwrap_or(spp).max(1), ..VismapSettings::default() };
+    if let Some(n) = ov.photons_per_iteration {
+        if n == 0 || n > 1 << 32 {
+            bail!("--photons-per-iteration must be in 1..=2^32, got {n}");
+        }
+        v.photons_per_iteration = Some(n);
+    }
+    if let Some(d) = ov.gather_depth {
+        if d > 64 {
+            bail!("--gather-depth must be in 0..=64, got {d}");
+        }
+        v.gather_depth = d;
+    }
+    if let Some(r) = ov.radius {
+        if !(r > 0.0 && r.is_finite()) {
+            bail!("--radius must be a positive length, got {r}");
+        }
+        v.radius = Some(r);
+    }
+    if let Some(a) = ov.alpha {
+        if !(a > 0.0 && a < 1.0) {
+            bail!("--alpha must be in (0, 1), got {a}");
+        }
+        v.alpha = a;
+    }
+    Ok(v)
 }
 
 /// Writes the EXR (atomically) and an optional PNG preview.

@@ -148,13 +148,7 @@ impl Light {
     }
 
     /// Samples incident light at point `p` (Li, direction, solid-angle pdf).
-    pub fn sample_li(
-        &self,
-        p: Vec3,
-        u: Vec2,
-        wl: &SampledWavelengths,
-        emissions: &[Emission],
-    ) -> Option<LightSample> {
+    pub fn sample_li(&self, p: Vec3, u: Vec2, wl: &SampledWavelengths, emissions: &[Emission]) -> Option<LightSample> {
         match self {
             Self::Area { tri, emission } => {
                 let area = tri.area();
@@ -258,6 +252,102 @@ impl Light {
             _ => 0.0,
         }
     }
+}
+
+/// A photon leaving a light: ray origin and direction and its spectral flux
+/// Le |cos| / (pdf_position pdf_direction) (light selection not included).
+#[derive(Clone, Copy, Debug)]
+pub struct EmittedPhoton {
+    /// Start of the photon's first segment (already offset off an emitting surface).
+    pub origin: Vec3,
+    /// Unit direction of travel.
+    pub dir: Vec3,
+    /// Flux weight at the sampled wavelengths.
+    pub flux: SampledSpectrum,
+}
+
+impl Light {
+    /// Samples a photon leaving this light (pbrt-v4 `SampleLe`): area lights pick a uniform
+    /// point and a cosine-weighted direction (flux = pi A Le per side), point lights a uniform
+    /// direction (4 pi I), spot lights a uniform direction in their cone (I falloff / pdf),
+    /// distant lights a uniform point on a disk of the scene's bounding sphere (centre `center`)
+    /// perpendicular to the direction of travel (E pi R^2 and 4 pi Le pi R^2).
+    pub fn sample_emission(
+        &self,
+        u_pos: Vec2,
+        u_dir: Vec2,
+        wl: &SampledWavelengths,
+        emissions: &[Emission],
+        center: Vec3,
+    ) -> Option<EmittedPhoton> {
+        let photon = match self {
+            Self::Area { tri, emission } => {
+                let e = &emissions[*emission as usize];
+                let area = tri.area();
+                if !(area > 0.0) {
+                    return None;
+                }
+                let (b1, b2) = sampling::uniform_triangle(u_pos);
+                let (p, p_err) = tri.point_with_error(b1, b2);
+                let mut ng = tri.normal_unnormalised().normalize();
+                // two-sided: the side is chosen by the first direction number, reused in [0, 1)
+                let mut u = u_dir;
+                let mut sides = 1.0;
+                if e.two_sided {
+                    sides = 2.0;
+                    if u.x < 0.5 {
+                        u.x *= 2.0;
+                    } else {
+                        u.x = 2.0 * u.x - 1.0;
+                        ng = -ng;
+                    }
+                }
+                let local = sampling::cosine_hemisphere(u);
+                if local.z <= 0.0 {
+                    return None;
+                }
+                let dir = Frame::from_z(ng).from_local(local);
+                let le = e.radiance(ng, dir, wl);
+                EmittedPhoton {
+                    origin: crate::geometry::offset_origin(p, p_err, ng, dir),
+                    dir,
+                    flux: le * (PI * area * sides),
+                }
+            }
+            Self::Point { position, spectrum, scale } => EmittedPhoton {
+                origin: *position,
+                dir: sampling::uniform_sphere(u_dir),
+                flux: spectrum.sample(wl) * (*scale * 4.0 * PI),
+            },
+            Self::Spot { position, frame, cos_total, cos_falloff_start, spectrum, scale } => {
+                let local = sampling::uniform_cone(u_dir, *cos_total);
+                let dir = frame.from_local(local);
+                let pdf = 1.0 / (2.0 * PI * (1.0 - *cos_total));
+                let fall = Self::spot_falloff(frame, *cos_total, *cos_falloff_start, dir);
+                EmittedPhoton { origin: *position, dir, flux: spectrum.sample(wl) * (*scale * fall / pdf) }
+            }
+            Self::Directional { direction, spectrum, scale, scene_radius } => {
+                let origin = disk_origin(center, *scene_radius, *direction, u_pos);
+                let flux = spectrum.sample(wl) * (*scale * PI * scene_radius * scene_radius);
+                EmittedPhoton { origin, dir: *direction, flux }
+            }
+            Self::Environment { spectrum, scale, scene_radius } => {
+                let dir = sampling::uniform_sphere(u_dir);
+                let origin = disk_origin(center, *scene_radius, dir, u_pos);
+                let area = PI * scene_radius * scene_radius;
+                EmittedPhoton { origin, dir, flux: spectrum.sample(wl) * (*scale * 4.0 * PI * area) }
+            }
+        };
+        (photon.flux.is_finite() && !photon.flux.is_black() && photon.dir.is_finite()).then_some(photon)
+    }
+}
+
+/// A uniform point on the disk of radius `r` through `center` perpendicular to `dir`, moved back
+/// by `r` against `dir`, so that rays along `dir` from it cover the bounding sphere.
+fn disk_origin(center: Vec3, r: f32, dir: Vec3, u: Vec2) -> Vec3 {
+    let d = sampling::concentric_disk(u);
+    let f = Frame::from_z(dir);
+    center + r * (f.from_local(Vec3::new(d.x, d.y, 0.0)) - dir)
 }
 
 /// Chooses lights with probability proportional to [`Light::power`].

@@ -77,7 +77,7 @@ fn render_in_pool(scene: &Scene, camera: &Camera, opts: &RenderOptions, threads:
     let start = Instant::now();
     let mut film = Film::new(w, h);
     let spp_total = opts.spp.max(1);
-    let bar = progress_bar(opts, w as u64 * h as u64 * spp_total as u64);
+    let bar = progress_bar(opts.progress, w as u64 * h as u64 * spp_total as u64);
     let mut done = 0u32;
     let mut pass = 1u32;
     while done < spp_total {
@@ -112,8 +112,9 @@ fn render_in_pool(scene: &Scene, camera: &Camera, opts: &RenderOptions, threads:
     RenderResult { film, depth, spp: done, seconds: start.elapsed().as_secs_f64(), threads }
 }
 
-fn progress_bar(opts: &RenderOptions, total: u64) -> Option<ProgressBar> {
-    if !opts.progress {
+/// A progress bar with ETA on stderr over `total` units of work, or None when `show` is false.
+pub(crate) fn progress_bar(show: bool, total: u64) -> Option<ProgressBar> {
+    if !show {
         return None;
     }
     let bar = ProgressBar::new(total);
@@ -125,7 +126,7 @@ fn progress_bar(opts: &RenderOptions, total: u64) -> Option<ProgressBar> {
 }
 
 /// Distance to the first surface along each pixel-centre ray (infinity for misses).
-fn depth_pass(scene: &Scene, camera: &Camera) -> Vec<f32> {
+pub(crate) fn depth_pass(scene: &Scene, camera: &Camera) -> Vec<f32> {
     let (w, h) = (camera.width(), camera.height());
     (0..w as usize * h as usize)
         .into_par_iter()

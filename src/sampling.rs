@@ -65,19 +65,7 @@ pub fn uniform_cone(u: Vec2, cos_max: f32) -> Vec3 {
     Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t)
 }
 
-/// Uniform point on the unit disk (concentric map, Shirley & Chiu 1997).
-pub fn concentric_disk(u: Vec2) -> Vec2 {
-    let o = 2.0 * u - Vec2::ONE;
-    if o.x == 0.0 && o.y == 0.0 {
-        return Vec2::ZERO;
-    }
-    let (r, theta) = if o.x.abs() > o.y.abs() {
-        (o.x, std::f32::consts::FRAC_PI_4 * (o.y / o.x))
-    } else {
-        (o.y, std::f32::consts::FRAC_PI_2 - std::f32::consts::FRAC_PI_4 * (o.x / o.y))
-    };
-    r * Vec2::new(theta.cos(), theta.sin())
-}
+pub use quasar_materials::warp::{concentric_disk, cosine_hemisphere};
 
 /// Veach's power heuristic with beta = 2 for one sample from each of two strategies:
 /// w_a = p_a^2 / (p_a^2 + p_b^2); infinite p_a (delta) gives 1.
@@ -171,9 +159,18 @@ mod tests {
 
     #[test]
     fn sampler_streams_are_reproducible_and_distinct() {
-        let a: Vec<f32> = { let mut s = Sampler::new(1, 2, 3); (0..4).map(|_| s.get_1d()).collect() };
-        let b: Vec<f32> = { let mut s = Sampler::new(1, 2, 3); (0..4).map(|_| s.get_1d()).collect() };
-        let c: Vec<f32> = { let mut s = Sampler::new(1, 2, 4); (0..4).map(|_| s.get_1d()).collect() };
+        let a: Vec<f32> = {
+            let mut s = Sampler::new(1, 2, 3);
+            (0..4).map(|_| s.get_1d()).collect()
+        };
+        let b: Vec<f32> = {
+            let mut s = Sampler::new(1, 2, 3);
+            (0..4).map(|_| s.get_1d()).collect()
+        };
+        let c: Vec<f32> = {
+            let mut s = Sampler::new(1, 2, 4);
+            (0..4).map(|_| s.get_1d()).collect()
+        };
         assert_eq!(a, b);
         assert_ne!(a, c);
         assert!(a.iter().all(|v| (0.0..1.0).contains(v)));

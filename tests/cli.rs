@@ -76,10 +76,8 @@ fn unknown_key_names_file_and_line() {
 
 #[test]
 fn malformed_obj_names_file_and_line() {
-    let scene = GOOD.replace(
-        "type = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\n",
-        "type = \"mesh\"\nfile = \"tri.obj\"\n",
-    );
+    let scene =
+        GOOD.replace("type = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\n", "type = \"mesh\"\nfile = \"tri.obj\"\n");
     let obj = "v 0 0 0\nv 1 0 0\nv 0 1 zero\nf 1 2 3\n";
     let s = write_scene(&scene, &[("tri.obj", obj)]);
     expect_failure(&s, "tri.obj:3");

@@ -143,8 +143,21 @@ fn exr_file_has_the_layers_and_settings() {
     let mut names: Vec<_> = back.channels.iter().map(|c| c.name.as_str()).collect();
     names.sort();
     for n in [
-        "R", "G", "B", "Y", "emission.R", "emission.G", "emission.B", "direct.R", "direct.G", "direct.B",
-        "indirect.R", "indirect.G", "indirect.B", "depth.Z", "spp.Y",
+        "R",
+        "G",
+        "B",
+        "Y",
+        "emission.R",
+        "emission.G",
+        "emission.B",
+        "direct.R",
+        "direct.G",
+        "direct.B",
+        "indirect.R",
+        "indirect.G",
+        "indirect.B",
+        "depth.Z",
+        "spp.Y",
     ] {
         assert!(names.contains(&n), "missing channel {n} in {names:?}");
     }

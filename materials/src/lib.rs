@@ -4,10 +4,11 @@
 //! wavelengths of a path; integrators only call the BSDF's `f`, `sample_f` and `pdf`.
 #![warn(missing_docs)]
 
-pub mod spectrum;
 pub mod bsdf;
 pub mod frame;
 pub mod material;
+pub mod spectrum;
+pub mod warp;
 
 pub use bsdf::{Bsdf, BsdfSample, Lobe, TransportMode};
 pub use frame::Frame;

@@ -39,10 +39,8 @@ impl Accel {
         if tris.is_empty() {
             return Self { bvh: None, geom: Vec::new(), info: Vec::new() };
         }
-        let obv: Vec<Triangle> = tris
-            .iter()
-            .map(|t| Triangle { v0: t[0].into(), v1: t[1].into(), v2: t[2].into() })
-            .collect();
+        let obv: Vec<Triangle> =
+            tris.iter().map(|t| Triangle { v0: t[0].into(), v1: t[1].into(), v2: t[2].into() }).collect();
         let bvh = build_cwbvh_from_tris(&obv, params, &mut Duration::default());
         let geom = bvh
             .primitive_indices
@@ -95,9 +93,11 @@ impl Accel {
 
     /// Bytes used by the BVH nodes, index list and triangle data.
     pub fn memory_bytes(&self) -> usize {
-        let bvh = self.bvh.as_ref().map_or(0, |b| {
-            b.nodes.len() * std::mem::size_of_val(&b.nodes[0]) + b.primitive_indices.len() * 4
-        });
-        bvh + self.geom.len() * std::mem::size_of::<TriangleGeom>() + self.info.len() * std::mem::size_of::<TriangleInfo>()
+        let bvh = self
+            .bvh
+            .as_ref()
+            .map_or(0, |b| b.nodes.len() * std::mem::size_of_val(&b.nodes[0]) + b.primitive_indices.len() * 4);
+        bvh + self.geom.len() * std::mem::size_of::<TriangleGeom>()
+            + self.info.len() * std::mem::size_of::<TriangleInfo>()
     }
 }

@@ -1,38 +1,15 @@
 //! `pt`: the reference unidirectional path tracer (DESIGN.md section 3.1): next-event estimation
 //! with MIS (power heuristic) against BSDF sampling, Russian roulette, unbounded depth by default.
-//! The estimate is split by the number of non-specular scattering events before the light:
-//! 0 -> emission (lights seen directly or through specular chains), 1 -> direct, >= 2 -> indirect.
+//! Contributions are split into layers by the path's scattering history ([`PathClass`]).
 
-use glam::Vec3;
+use quasar_materials::TransportMode;
 use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
-use quasar_materials::{Bsdf, TransportMode};
 
-use crate::geometry::{NONE, Ray};
-use crate::sampling::{Sampler, power_heuristic};
-use crate::scene::{Scene, SurfaceInteraction};
-
-/// Radiance of one camera path split into the film's layers.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct LayeredRadiance {
-    /// Lights seen directly or through specular chains (L^V).
-    pub emission: SampledSpectrum,
-    /// Light after exactly one non-specular scattering event (L^D).
-    pub direct: SampledSpectrum,
-    /// Light after two or more non-specular events (L^I).
-    pub indirect: SampledSpectrum,
-}
-
-impl LayeredRadiance {
-    /// Adds `l` to the layer for a path with `nonspecular` non-specular events.
-    #[inline]
-    pub fn add(&mut self, nonspecular: u32, l: SampledSpectrum) {
-        match nonspecular {
-            0 => self.emission += l,
-            1 => self.direct += l,
-            _ => self.indirect += l,
-        }
-    }
-}
+use super::direct::{PrevVertex, emitted_at_hit, escaped_radiance, sample_direct};
+use super::layers::{LayeredRadiance, PathClass};
+use crate::geometry::Ray;
+use crate::sampling::Sampler;
+use crate::scene::Scene;
 
 /// Settings of the path tracer.
 #[derive(Clone, Copy, Debug)]
@@ -49,46 +26,21 @@ impl Default for PtSettings {
     }
 }
 
-/// Next-event estimation at `si`: samples a light (power-proportional) and a point on it, and
-/// returns beta-free contribution f * Li * |cos| * w_light / (p_select * pdf_light).
+/// Russian roulette on the throughput `beta` (with refraction's radiance scaling `eta_scale`
+/// undone): survives with probability min(1, max beta), at least 5%; returns false when the path
+/// ends and otherwise rescales `beta` so that the estimate stays unbiased.
 #[inline]
-pub fn sample_direct(
-    scene: &Scene,
-    si: &SurfaceInteraction,
-    bsdf: &Bsdf,
-    wo_local: Vec3,
-    wl: &SampledWavelengths,
-    sampler: &mut Sampler,
-) -> SampledSpectrum {
-    let u_light = sampler.get_1d();
-    let u_point = sampler.get_2d();
-    let Some((li_index, p_select)) = scene.light_sampler.sample(u_light) else {
-        return SampledSpectrum::zero();
-    };
-    let light = &scene.lights[li_index];
-    let Some(ls) = light.sample_li(si.p, u_point, wl, &scene.emissions) else {
-        return SampledSpectrum::zero();
-    };
-    if ls.pdf <= 0.0 || ls.li.is_black() {
-        return SampledSpectrum::zero();
+pub fn russian_roulette(beta: &mut SampledSpectrum, eta_scale: f32, u: f32) -> bool {
+    let rr = beta.max_component() * eta_scale;
+    if rr >= 1.0 {
+        return true;
     }
-    let frame = si.frame();
-    let wi_local = frame.to_local(ls.wi);
-    let f = bsdf.f(wo_local, wi_local, TransportMode::Radiance) * wi_local.z.abs();
-    if f.is_black() {
-        return SampledSpectrum::zero();
+    let q = (1.0 - rr).max(0.05);
+    if u < q {
+        return false;
     }
-    if scene.occluded(&si.spawn_shadow_ray(ls.wi, ls.dist)) {
-        return SampledSpectrum::zero();
-    }
-    let p_light = p_select * ls.pdf;
-    let w = if ls.delta {
-        1.0
-    } else {
-        let p_bsdf = bsdf.pdf(wo_local, wi_local, TransportMode::Radiance);
-        power_heuristic(p_light, p_bsdf)
-    };
-    f * ls.li * (w / p_light)
+    *beta /= 1.0 - q;
+    true
 }
 
 /// Traces one camera path and returns its layered radiance at the (possibly terminated)
@@ -102,46 +54,17 @@ pub fn radiance(
 ) -> LayeredRadiance {
     let mut out = LayeredRadiance::default();
     let mut beta = SampledSpectrum::one();
-    let mut nonspecular = 0u32;
-    let mut specular_bounce = true;
-    let mut prev_p = ray.origin;
-    let mut prev_pdf = 0.0f32;
+    let mut class = PathClass::default();
+    let mut prev = PrevVertex::eye(ray.origin);
     let mut eta_scale = 1.0f32;
     let mut depth = 0u32;
     loop {
         let Some(si) = scene.intersect(&ray) else {
-            for &i in &scene.infinite_lights {
-                let light = &scene.lights[i];
-                let le = light.le_escaped(wl);
-                if le.is_black() {
-                    continue;
-                }
-                let w = if specular_bounce {
-                    1.0
-                } else {
-                    let p_light = scene.light_sampler.pmf(i) * light.pdf_li_escaped();
-                    power_heuristic(prev_pdf, p_light)
-                };
-                out.add(nonspecular, beta * le * w);
-            }
+            out.add(class, beta * escaped_radiance(scene, &prev, wl));
             break;
         };
         let wo = -ray.dir;
-        if si.light != NONE {
-            let light = &scene.lights[si.light as usize];
-            if let crate::light::Light::Area { emission, .. } = light {
-                let le = scene.emissions[*emission as usize].radiance(si.ng, wo, wl);
-                if !le.is_black() {
-                    let w = if specular_bounce {
-                        1.0
-                    } else {
-                        let p_light = scene.light_sampler.pmf(si.light as usize) * light.pdf_li_area(prev_p, si.p, si.ng);
-                        power_heuristic(prev_pdf, p_light)
-                    };
-                    out.add(nonspecular, beta * le * w);
-                }
-            }
-        }
+        out.add(class, beta * emitted_at_hit(scene, &si, wo, &prev, wl));
         if settings.max_depth.is_some_and(|m| depth >= m) {
             break;
         }
@@ -150,9 +73,7 @@ pub fn radiance(
         let wo_local = frame.to_local(wo);
         if !bsdf.is_specular() {
             let ld = sample_direct(scene, &si, &bsdf, wo_local, wl, sampler);
-            if !ld.is_black() {
-                out.add(nonspecular + 1, beta * ld);
-            }
+            out.add(class.scattered(false), beta * ld);
         }
         let uc = sampler.get_1d();
         let u = sampler.get_2d();
@@ -170,26 +91,15 @@ pub fn radiance(
         if !beta.is_finite() {
             break;
         }
-        specular_bounce = bs.specular;
-        if !bs.specular {
-            nonspecular += 1;
-        }
+        class = class.scattered(bs.specular);
         if bs.lobe == quasar_materials::Lobe::Transmission {
             eta_scale *= bs.eta * bs.eta;
         }
-        prev_pdf = if bs.specular { f32::INFINITY } else { bs.pdf };
-        prev_p = si.p;
+        prev = PrevVertex { p: si.p, pdf: if bs.specular { f32::INFINITY } else { bs.pdf } };
         ray = si.spawn_ray(wi);
         depth += 1;
-
-        // Russian roulette on the throughput with the radiance-scaling of refraction undone.
-        let rr = beta.max_component() * eta_scale;
-        if depth >= settings.rr_depth && rr < 1.0 {
-            let q = (1.0 - rr).max(0.05);
-            if sampler.get_1d() < q {
-                break;
-            }
-            beta /= 1.0 - q;
+        if depth >= settings.rr_depth && !russian_roulette(&mut beta, eta_scale, sampler.get_1d()) {
+            break;
         }
     }
     out

@@ -57,14 +57,17 @@ pub fn write_exr_atomic(img: &ExrImage, path: &Path) -> std::result::Result<(), 
     let err = |msg: String| ExrError::Io { path: path.to_path_buf(), msg };
     for c in &img.channels {
         if c.values.len() != img.width * img.height {
-            return Err(err(format!("channel {} has {} values for {}x{}", c.name, c.values.len(), img.width, img.height)));
+            return Err(err(format!(
+                "channel {} has {} values for {}x{}",
+                c.name,
+                c.values.len(),
+                img.width,
+                img.height
+            )));
         }
     }
-    let channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = img
-        .channels
-        .iter()
-        .map(|c| AnyChannel::new(c.name.as_str(), FlatSamples::F32(c.values.clone())))
-        .collect();
+    let channels: SmallVec<[AnyChannel<FlatSamples>; 4]> =
+        img.channels.iter().map(|c| AnyChannel::new(c.name.as_str(), FlatSamples::F32(c.values.clone()))).collect();
     let mut attrs = LayerAttributes::default();
     attrs.software_name = Some(Text::from(concat!("quasar ", env!("CARGO_PKG_VERSION"))));
     let meta: String = img.metadata.iter().map(|(k, v)| format!("{k}={v}\n")).collect();

@@ -10,13 +10,7 @@ fn srgb_encode(v: f32) -> f32 {
 /// Writes linear sRGB `r, g, b` (row-major) as a PNG: exposure scaling by 2^`exposure`, clipping
 /// to [0, 1] and the sRGB transfer curve (Blender's "Standard" view transform). Non-finite values
 /// become 0. Atomic like the EXR writer.
-pub fn write_preview_png(
-    path: &Path,
-    width: u32,
-    height: u32,
-    rgb: [&[f32]; 3],
-    exposure: f32,
-) -> Result<(), String> {
+pub fn write_preview_png(path: &Path, width: u32, height: u32, rgb: [&[f32]; 3], exposure: f32) -> Result<(), String> {
     let scale = 2f32.powf(exposure);
     let mut buf = Vec::with_capacity(width as usize * height as usize * 3);
     for i in 0..(width as usize * height as usize) {

@@ -1,12 +1,13 @@
 //! Lambertian reflection: f = R / pi, sampled with a cosine-weighted hemisphere (Malley's method
 //! over the concentric disk map of Shirley & Chiu 1997).
 
-use std::f32::consts::{FRAC_1_PI, FRAC_PI_2, FRAC_PI_4};
+use std::f32::consts::FRAC_1_PI;
 
 use glam::{Vec2, Vec3};
 
 use super::{BsdfSample, Lobe, TransportMode};
 use crate::spectrum::SampledSpectrum;
+use crate::warp::cosine_hemisphere as sample_cosine_hemisphere;
 
 /// Lambertian reflector with albedo `r`; black from behind (wo.z <= 0) unless `two_sided`, in
 /// which case it reflects on whichever side `wo` is.
@@ -16,25 +17,6 @@ pub struct DiffuseBsdf {
     pub r: SampledSpectrum,
     /// Reflect on both sides.
     pub two_sided: bool,
-}
-
-/// Shirley–Chiu concentric map of [0,1]^2 onto the unit disk (area preserving).
-fn concentric_disk(u: Vec2) -> Vec2 {
-    let o = 2.0 * u - Vec2::ONE;
-    if o.x == 0.0 && o.y == 0.0 {
-        return Vec2::ZERO;
-    }
-    let (r, theta) =
-        if o.x.abs() > o.y.abs() { (o.x, FRAC_PI_4 * (o.y / o.x)) } else { (o.y, FRAC_PI_2 - FRAC_PI_4 * (o.x / o.y)) };
-    Vec2::new(r * theta.cos(), r * theta.sin())
-}
-
-/// Cosine-weighted direction on the upper hemisphere (density cos(theta) / pi): a uniform disk
-/// point lifted to the hemisphere (Malley's method).
-pub(crate) fn sample_cosine_hemisphere(u: Vec2) -> Vec3 {
-    let d = concentric_disk(u);
-    let z = (1.0 - d.x * d.x - d.y * d.y).max(0.0).sqrt();
-    Vec3::new(d.x, d.y, z)
 }
 
 impl DiffuseBsdf {

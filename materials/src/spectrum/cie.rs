@@ -1,9 +1,7 @@
 //! CIE 1931 2-degree colour-matching functions and standard illuminants, linearly interpolated
 //! from the 5 nm tables in [`cie_data`](super::cie_data).
 
-use super::cie_data::{
-    CIE_D65, CIE_X, CIE_Y, CIE_Z, CMF_LAMBDA_START, D65_LAMBDA_START, TABLE_STEP,
-};
+use super::cie_data::{CIE_D65, CIE_X, CIE_Y, CIE_Z, CMF_LAMBDA_START, D65_LAMBDA_START, TABLE_STEP};
 
 /// Integral of ybar over the tables' range (nm), the sensor's normalisation constant:
 /// a spectrally flat radiance of 1 has Y = 1.
@@ -48,8 +46,7 @@ pub fn d65(lambda: f32) -> f32 {
 pub fn illuminant_a(lambda: f32) -> f32 {
     let l = lambda as f64;
     let c2 = 1.435e7_f64;
-    let v = 100.0 * (560.0 / l).powi(5) * ((c2 / (2848.0 * 560.0)).exp() - 1.0)
-        / ((c2 / (2848.0 * l)).exp() - 1.0);
+    let v = 100.0 * (560.0 / l).powi(5) * ((c2 / (2848.0 * 560.0)).exp() - 1.0) / ((c2 / (2848.0 * l)).exp() - 1.0);
     v as f32
 }
 

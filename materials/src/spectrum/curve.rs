@@ -173,9 +173,7 @@ impl Spectrum {
     /// A blackbody emitter at `kelvin`, normalised to luminance 1.
     pub fn blackbody(kelvin: f32) -> Result<Self, SpectrumError> {
         if !kelvin.is_finite() || kelvin < 100.0 || kelvin > 1e6 {
-            return Err(SpectrumError::Parameter(format!(
-                "blackbody temperature must be in 100..1e6 K, got {kelvin}"
-            )));
+            return Err(SpectrumError::Parameter(format!("blackbody temperature must be in 100..1e6 K, got {kelvin}")));
         }
         let y = luminance_of(|l| planck(l, kelvin));
         Ok(Self::Blackbody { kelvin, norm: 1.0 / y })
@@ -190,9 +188,7 @@ impl Spectrum {
     /// A reflectance from linear sRGB; components must be finite and in [0, 1].
     pub fn rgb_reflectance(rgb: [f32; 3]) -> Result<Self, SpectrumError> {
         if rgb.iter().any(|c| !c.is_finite() || *c < 0.0 || *c > 1.0) {
-            return Err(SpectrumError::Parameter(format!(
-                "reflectance rgb components must be in [0, 1], got {rgb:?}"
-            )));
+            return Err(SpectrumError::Parameter(format!("reflectance rgb components must be in [0, 1], got {rgb:?}")));
         }
         Ok(Self::RgbReflectance(rgb))
     }
@@ -200,9 +196,7 @@ impl Spectrum {
     /// A light colour from linear sRGB; components must be finite and >= 0.
     pub fn rgb_illuminant(rgb: [f32; 3]) -> Result<Self, SpectrumError> {
         if rgb.iter().any(|c| !c.is_finite() || *c < 0.0) {
-            return Err(SpectrumError::Parameter(format!(
-                "light rgb components must be finite and >= 0, got {rgb:?}"
-            )));
+            return Err(SpectrumError::Parameter(format!("light rgb components must be finite and >= 0, got {rgb:?}")));
         }
         let y = luminance_of(cie::d65);
         Ok(Self::RgbIlluminant { rgb, norm: 1.0 / y })

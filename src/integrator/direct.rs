@@ -1,0 +1,114 @@
+//! Direct lighting shared by every integrator: next-event estimation with MIS (power heuristic,
+//! Veach 1997 ch. 9) and the matching MIS weights of emitters reached by BSDF sampling.
+
+use glam::Vec3;
+use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
+use quasar_materials::{Bsdf, TransportMode};
+
+use crate::light::Light;
+use crate::sampling::{Sampler, power_heuristic};
+use crate::scene::{Scene, SurfaceInteraction};
+
+/// How the current path vertex was reached, for the MIS weight of emission found there.
+#[derive(Clone, Copy, Debug)]
+pub struct PrevVertex {
+    /// Position of the previous scattering vertex (or the eye).
+    pub p: Vec3,
+    /// Solid-angle pdf of the BSDF sample that left it; infinity for specular samples and
+    /// camera rays (no light sampling was possible there, so emission gets the full weight).
+    pub pdf: f32,
+}
+
+impl PrevVertex {
+    /// The eye: emission seen directly is never light-sampled.
+    pub fn eye(p: Vec3) -> Self {
+        Self { p, pdf: f32::INFINITY }
+    }
+}
+
+/// Next-event estimation at `si`: one power-proportional light choice and one point on it;
+/// returns f |cos| Li w_light / (p_select pdf_light) (path throughput not included).
+#[inline]
+pub fn sample_direct(
+    scene: &Scene,
+    si: &SurfaceInteraction,
+    bsdf: &Bsdf,
+    wo_local: Vec3,
+    wl: &SampledWavelengths,
+    sampler: &mut Sampler,
+) -> SampledSpectrum {
+    let u_light = sampler.get_1d();
+    let u_point = sampler.get_2d();
+    let Some((li_index, p_select)) = scene.light_sampler.sample(u_light) else {
+        return SampledSpectrum::zero();
+    };
+    let light = &scene.lights[li_index];
+    let Some(ls) = light.sample_li(si.p, u_point, wl, &scene.emissions) else {
+        return SampledSpectrum::zero();
+    };
+    if ls.pdf <= 0.0 || ls.li.is_black() {
+        return SampledSpectrum::zero();
+    }
+    let wi_local = si.frame().to_local(ls.wi);
+    let f = bsdf.f(wo_local, wi_local, TransportMode::Radiance) * wi_local.z.abs();
+    if f.is_black() {
+        return SampledSpectrum::zero();
+    }
+    if scene.occluded(&si.spawn_shadow_ray(ls.wi, ls.dist)) {
+        return SampledSpectrum::zero();
+    }
+    let p_light = p_select * ls.pdf;
+    let w = if ls.delta {
+        1.0
+    } else {
+        let p_bsdf = bsdf.pdf(wo_local, wi_local, TransportMode::Radiance);
+        power_heuristic(p_light, p_bsdf)
+    };
+    f * ls.li * (w / p_light)
+}
+
+/// MIS-weighted emission of the surface at `si` towards `wo`, reached from `prev`
+/// (the BSDF-sampling half of [`sample_direct`]). Zero for non-emitters.
+#[inline]
+pub fn emitted_at_hit(
+    scene: &Scene,
+    si: &SurfaceInteraction,
+    wo: Vec3,
+    prev: &PrevVertex,
+    wl: &SampledWavelengths,
+) -> SampledSpectrum {
+    if si.light == crate::geometry::NONE {
+        return SampledSpectrum::zero();
+    }
+    let light = &scene.lights[si.light as usize];
+    let Light::Area { emission, .. } = light else { return SampledSpectrum::zero() };
+    let le = scene.emissions[*emission as usize].radiance(si.ng, wo, wl);
+    if le.is_black() {
+        return le;
+    }
+    if prev.pdf.is_infinite() {
+        return le;
+    }
+    let p_light = scene.light_sampler.pmf(si.light as usize) * light.pdf_li_area(prev.p, si.p, si.ng);
+    le * power_heuristic(prev.pdf, p_light)
+}
+
+/// MIS-weighted radiance of the lights at infinity seen by a ray that left `prev` and escaped.
+#[inline]
+pub fn escaped_radiance(scene: &Scene, prev: &PrevVertex, wl: &SampledWavelengths) -> SampledSpectrum {
+    let mut sum = SampledSpectrum::zero();
+    for &i in &scene.infinite_lights {
+        let light = &scene.lights[i];
+        let le = light.le_escaped(wl);
+        if le.is_black() {
+            continue;
+        }
+        let w = if prev.pdf.is_infinite() {
+            1.0
+        } else {
+            power_heuristic(prev.pdf, scene.light_sampler.pmf(i) * light.pdf_li_escaped())
+        };
+        sum += le * w;
+    }
+    sum
+}

@@ -1,0 +1,191 @@
+//! The forward (light) pass of `vismap` (DESIGN.md section 3.2 step 3): photons leave the lights
+//! (power-proportional choice), scatter by BSDF sampling with Russian roulette, and at every
+//! non-specular hit after at least one bounce add f(wo, wi) * flux to the visibility points whose
+//! gather disk contains the hit.
+
+use quasar_materials::TransportMode;
+use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
+use rayon::prelude::*;
+
+use super::grid::VisibilityGrid;
+use super::visibility_point::VisibilityPoint;
+use crate::geometry::Ray;
+use crate::integrator::pt::russian_roulette;
+use crate::sampling::Sampler;
+use crate::scene::Scene;
+
+/// Photons traced per parallel work item (the unit of the fixed-order reduction).
+const CHUNK: usize = 1024;
+/// Photon bounces before Russian roulette may end a photon.
+const RR_DEPTH: u32 = 3;
+/// A hard cap on photon path length (Russian roulette ends paths long before in practice).
+const MAX_BOUNCES: u32 = 1000;
+/// Cosine of the largest angle (60 degrees) between the surface normals of a photon hit and a
+/// visibility point for the photon to count there: keeps photons on one side of a thin object
+/// (a plate on a table) or on the other wall of a corner from lighting the other. The excluded
+/// set shrinks to the surfaces' creases as the radius shrinks, so the estimate stays consistent.
+const MIN_NORMAL_COS: f32 = 0.5;
+
+/// Gather radii of one visibility point in the current iteration.
+#[derive(Clone, Copy, Debug)]
+pub struct GatherRadii {
+    /// Radius for photons that bounced off non-specular surfaces before.
+    pub indirect: f32,
+    /// Radius for caustic photons (all bounces specular).
+    pub caustic: f32,
+}
+
+/// Accumulated photon contributions of one visibility point: sum of f * flux, split by photon
+/// class. Divided by N pi r^2 of the class's radius it is the reflected radiance L^I.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PhotonSums {
+    /// Photons with at least one non-specular bounce.
+    pub indirect: [f64; 4],
+    /// Caustic photons.
+    pub caustic: [f64; 4],
+}
+
+/// One photon's contribution to one visibility point.
+#[derive(Clone, Copy, Debug)]
+struct Deposit {
+    point: u32,
+    caustic: bool,
+    value: SampledSpectrum,
+}
+
+/// What one photon pass produced.
+pub struct PhotonPassResult {
+    /// Per visibility point.
+    pub sums: Vec<PhotonSums>,
+    /// Photon-surface hits after >= 1 bounce (looked up in the grid).
+    pub lookups: u64,
+}
+
+/// Traces `n_photons` photons at the iteration's wavelengths `wl` with streams keyed by
+/// (`seed`, `iteration`, photon number) and returns the sums per visibility point. The reduction
+/// adds chunks' deposits in photon order, so the result is the same for any thread count.
+#[allow(clippy::too_many_arguments)]
+pub fn trace_photons(
+    scene: &Scene,
+    wl: &SampledWavelengths,
+    points: &[VisibilityPoint],
+    point_wl: &[SampledWavelengths],
+    radii: &[GatherRadii],
+    grid: &VisibilityGrid,
+    n_photons: u64,
+    seed: u64,
+    iteration: u32,
+) -> PhotonPassResult {
+    let n_chunks = n_photons.div_ceil(CHUNK as u64);
+    let chunks: Vec<(Vec<Deposit>, u64)> = (0..n_chunks)
+        .into_par_iter()
+        .map(|c| {
+            let mut deposits = Vec::new();
+            let mut lookups = 0u64;
+            let end = ((c + 1) * CHUNK as u64).min(n_photons);
+            for i in c * CHUNK as u64..end {
+                let mut sampler = Sampler::new(seed, i, iteration as u64);
+                lookups += trace_photon(scene, wl, points, point_wl, radii, grid, &mut sampler, &mut deposits);
+            }
+            (deposits, lookups)
+        })
+        .collect();
+    let mut sums = vec![PhotonSums::default(); points.len()];
+    let mut lookups = 0;
+    for (deposits, n) in &chunks {
+        lookups += n;
+        for d in deposits {
+            let acc = &mut sums[d.point as usize];
+            let acc = if d.caustic { &mut acc.caustic } else { &mut acc.indirect };
+            for k in 0..4 {
+                acc[k] += d.value[k] as f64;
+            }
+        }
+    }
+    PhotonPassResult { sums, lookups }
+}
+
+/// One photon path. Returns the number of grid lookups made.
+#[allow(clippy::too_many_arguments)]
+fn trace_photon(
+    scene: &Scene,
+    wl_iteration: &SampledWavelengths,
+    points: &[VisibilityPoint],
+    point_wl: &[SampledWavelengths],
+    radii: &[GatherRadii],
+    grid: &VisibilityGrid,
+    sampler: &mut Sampler,
+    deposits: &mut Vec<Deposit>,
+) -> u64 {
+    let Some((light_index, p_select)) = scene.light_sampler.sample(sampler.get_1d()) else { return 0 };
+    let u_pos = sampler.get_2d();
+    let u_dir = sampler.get_2d();
+    let mut wl = *wl_iteration;
+    let light = &scene.lights[light_index];
+    let Some(photon) = light.sample_emission(u_pos, u_dir, &wl, &scene.emissions, scene.center) else {
+        return 0;
+    };
+    let mut beta = photon.flux / p_select;
+    let beta0 = beta.max_component();
+    let mut ray = Ray::new(photon.origin, photon.dir);
+    let mut caustic = true;
+    let mut lookups = 0;
+    for bounce in 0..MAX_BOUNCES {
+        let Some(si) = scene.intersect(&ray) else { break };
+        let bsdf = scene.materials[si.material as usize].bsdf(&mut wl);
+        let wi_photon = -ray.dir;
+        if bounce > 0 && !bsdf.is_specular() {
+            lookups += 1;
+            for &vi in grid.candidates(si.p) {
+                let vp = &points[vi as usize];
+                let r = if caustic { radii[vi as usize].caustic } else { radii[vi as usize].indirect };
+                if (si.p - vp.p).length_squared() > r * r || vp.ng.dot(si.ng) < MIN_NORMAL_COS {
+                    continue;
+                }
+                let f = vp.bsdf.f(vp.wo_local, vp.frame.to_local(wi_photon), TransportMode::Radiance);
+                let mut value = f * beta;
+                // a dispersive event on either subpath makes the whole path hero-only: the
+                // visibility point's wavelengths carry the hero's 1/N pdf once
+                let (vp_term, ph_term) = (point_wl[vi as usize].secondary_terminated(), wl.secondary_terminated());
+                if vp_term || ph_term {
+                    for k in 1..4 {
+                        value[k] = 0.0;
+                    }
+                    if ph_term && !vp_term {
+                        value[0] *= 4.0;
+                    }
+                }
+                if value.is_finite() && !value.is_black() {
+                    deposits.push(Deposit { point: vi, caustic, value });
+                }
+            }
+        }
+        let frame = si.frame();
+        let wo_local = frame.to_local(wi_photon);
+        let Some(bs) = bsdf.sample_f(wo_local, sampler.get_1d(), sampler.get_2d(), TransportMode::Importance) else {
+            break;
+        };
+        if bs.pdf <= 0.0 || bs.f.is_black() {
+            break;
+        }
+        let wi = frame.from_local(bs.wi);
+        if (bs.wi.z * wo_local.z > 0.0) != (wi.dot(si.ng) * wi_photon.dot(si.ng) > 0.0) {
+            break;
+        }
+        beta *= bs.f * (bs.wi.z.abs() / bs.pdf);
+        if !beta.is_finite() || beta.is_black() {
+            break;
+        }
+        caustic &= bs.specular;
+        ray = si.spawn_ray(wi);
+        if bounce + 1 >= RR_DEPTH {
+            // roulette on the throughput relative to the emitted flux
+            let mut rel = beta / beta0;
+            if !russian_roulette(&mut rel, 1.0, sampler.get_1d()) {
+                break;
+            }
+            beta = rel * beta0;
+        }
+    }
+    lookups
+}
