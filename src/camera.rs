@@ -109,8 +109,7 @@ mod tests {
         let mut d = CameraDesc::default();
         d.up = d.target - d.position;
         assert!(Camera::new(&d, 10, 10).is_err());
-        let mut d = CameraDesc::default();
-        d.fov_deg = 180.0;
+        let d = CameraDesc { fov_deg: 180.0, ..CameraDesc::default() };
         assert!(Camera::new(&d, 10, 10).is_err());
     }
 }

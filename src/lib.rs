@@ -7,6 +7,7 @@
 #![warn(missing_docs)]
 
 pub mod camera;
+pub mod compare;
 pub mod film;
 pub mod geometry;
 pub mod integrator;

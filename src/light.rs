@@ -152,14 +152,14 @@ impl Light {
         match self {
             Self::Area { tri, emission } => {
                 let area = tri.area();
-                if !(area > 0.0) {
+                if area.is_nan() || area <= 0.0 {
                     return None;
                 }
                 let (b1, b2) = sampling::uniform_triangle(u);
                 let pl = tri.point(b1, b2);
                 let d = pl - p;
                 let dist2 = d.length_squared();
-                if !(dist2 > 0.0) || !dist2.is_finite() {
+                if dist2.is_nan() || dist2 <= 0.0 || !dist2.is_finite() {
                     return None;
                 }
                 let dist = dist2.sqrt();
@@ -182,7 +182,7 @@ impl Light {
             Self::Point { position, spectrum, scale } => {
                 let d = *position - p;
                 let dist2 = d.length_squared();
-                if !(dist2 > 0.0) {
+                if dist2.is_nan() || dist2 <= 0.0 {
                     return None;
                 }
                 let dist = dist2.sqrt();
@@ -192,7 +192,7 @@ impl Light {
             Self::Spot { position, frame, cos_total, cos_falloff_start, spectrum, scale } => {
                 let d = *position - p;
                 let dist2 = d.length_squared();
-                if !(dist2 > 0.0) {
+                if dist2.is_nan() || dist2 <= 0.0 {
                     return None;
                 }
                 let dist = dist2.sqrt();
@@ -284,7 +284,7 @@ impl Light {
             Self::Area { tri, emission } => {
                 let e = &emissions[*emission as usize];
                 let area = tri.area();
-                if !(area > 0.0) {
+                if area.is_nan() || area <= 0.0 {
                     return None;
                 }
                 let (b1, b2) = sampling::uniform_triangle(u_pos);

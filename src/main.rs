@@ -15,6 +15,7 @@ struct Cli {
 }
 
 #[derive(Subcommand)]
+#[allow(clippy::large_enum_variant)] // parsed once per process; size does not matter
 enum Command {
     /// Render a scene (.toml, .obj) to a multi-layer OpenEXR file.
     Render {
@@ -68,6 +69,19 @@ enum Command {
         /// Do not show a progress bar.
         #[arg(long)]
         quiet: bool,
+    },
+    /// Compare an image with a reference: RMSE, relMSE, mean relative and max error per layer.
+    Compare {
+        /// The image.
+        image: PathBuf,
+        /// The reference image.
+        reference: PathBuf,
+        /// Only this layer ("beauty", "direct", "indirect", ...).
+        #[arg(long)]
+        layer: Option<String>,
+        /// Write a false-colour PNG of the relative luminance difference (red: brighter).
+        #[arg(long)]
+        diff: Option<PathBuf>,
     },
     /// Print what a scene contains and which method `auto` would use.
     Info {
@@ -129,6 +143,25 @@ fn run() -> anyhow::Result<()> {
                     out.result.seconds,
                     out.result.threads
                 );
+            }
+            Ok(())
+        }
+        Command::Compare { image, reference, layer, diff } => {
+            let a = quasar::output::read_exr(&image)?;
+            let r = quasar::output::read_exr(&reference)?;
+            let errors = quasar::compare::compare(&a, &r, layer.as_deref()).map_err(anyhow::Error::msg)?;
+            println!(
+                "{:<12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12}",
+                "layer", "rmse", "relmse", "mean_rel", "max", "mean", "ref_mean"
+            );
+            for e in errors {
+                println!(
+                    "{:<12} {:>12.5e} {:>12.5e} {:>12.5e} {:>12.5e} {:>12.5e} {:>12.5e}",
+                    e.layer, e.rmse, e.rel_mse, e.mean_rel_error, e.max_error, e.means.0, e.means.1
+                );
+            }
+            if let Some(p) = diff {
+                quasar::compare::write_difference_png(&a, &r, &p).map_err(anyhow::Error::msg)?;
             }
             Ok(())
         }

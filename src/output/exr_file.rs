@@ -68,8 +68,10 @@ pub fn write_exr_atomic(img: &ExrImage, path: &Path) -> std::result::Result<(), 
     }
     let channels: SmallVec<[AnyChannel<FlatSamples>; 4]> =
         img.channels.iter().map(|c| AnyChannel::new(c.name.as_str(), FlatSamples::F32(c.values.clone()))).collect();
-    let mut attrs = LayerAttributes::default();
-    attrs.software_name = Some(Text::from(concat!("quasar ", env!("CARGO_PKG_VERSION"))));
+    let mut attrs = LayerAttributes {
+        software_name: Some(Text::from(concat!("quasar ", env!("CARGO_PKG_VERSION")))),
+        ..LayerAttributes::default()
+    };
     let meta: String = img.metadata.iter().map(|(k, v)| format!("{k}={v}\n")).collect();
     attrs.other.insert(Text::from("quasar"), AttributeValue::Text(Text::from(meta.as_str())));
     let layer = Layer::new((img.width, img.height), attrs, Encoding::SMALL_LOSSLESS, AnyChannels::sort(channels));

@@ -11,7 +11,7 @@ pub const CIE_Y_INTEGRAL: f32 = 106.857_03;
 #[inline]
 fn lerp_table(table: &[f32], start: f32, lambda: f32) -> f32 {
     let x = (lambda - start) / TABLE_STEP;
-    if !(x >= 0.0) || x > (table.len() - 1) as f32 {
+    if x.is_nan() || x < 0.0 || x > (table.len() - 1) as f32 {
         return 0.0;
     }
     let i = (x as usize).min(table.len() - 2);

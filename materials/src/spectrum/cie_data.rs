@@ -1,6 +1,8 @@
 //! CIE colorimetric tables (data, not code). Values from CIE 015:2018 as distributed by the
 //! `colour-science` Python package (CIE 1931 2-degree standard observer, CIE standard illuminant D65).
 
+#![allow(clippy::excessive_precision)] // CIE tables are quoted digit for digit
+
 /// First wavelength (nm) of the colour-matching-function tables.
 pub const CMF_LAMBDA_START: f32 = 360.0;
 /// Spacing (nm) of all tables in this file.

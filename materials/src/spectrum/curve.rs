@@ -172,7 +172,7 @@ impl Spectrum {
 
     /// A blackbody emitter at `kelvin`, normalised to luminance 1.
     pub fn blackbody(kelvin: f32) -> Result<Self, SpectrumError> {
-        if !kelvin.is_finite() || kelvin < 100.0 || kelvin > 1e6 {
+        if !(100.0..=1e6).contains(&kelvin) {
             return Err(SpectrumError::Parameter(format!("blackbody temperature must be in 100..1e6 K, got {kelvin}")));
         }
         let y = luminance_of(|l| planck(l, kelvin));

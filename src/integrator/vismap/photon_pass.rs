@@ -97,8 +97,8 @@ pub fn trace_photons(
         for d in deposits {
             let acc = &mut sums[d.point as usize];
             let acc = if d.caustic { &mut acc.caustic } else { &mut acc.indirect };
-            for k in 0..4 {
-                acc[k] += d.value[k] as f64;
+            for (a, v) in acc.iter_mut().zip(d.value.0) {
+                *a += v as f64;
             }
         }
     }
@@ -142,8 +142,15 @@ fn trace_photon(
                 if (si.p - vp.p).length_squared() > r * r || vp.ng.dot(si.ng) < MIN_NORMAL_COS {
                     continue;
                 }
-                let f = vp.bsdf.f(vp.wo_local, vp.frame.to_local(wi_photon), TransportMode::Radiance);
-                let mut value = f * beta;
+                // the photon density measures irradiance on the geometric surface; the BSDF
+                // integrates against the shading cosine: |wi . ns| / |wi . ng| (Veach 1997, 5.3)
+                let wi_local = vp.frame.to_local(wi_photon);
+                let cos_g = wi_photon.dot(vp.ng).abs();
+                if cos_g <= 0.0 {
+                    continue;
+                }
+                let f = vp.bsdf.f(vp.wo_local, wi_local, TransportMode::Radiance);
+                let mut value = f * beta * (wi_local.z.abs() / cos_g);
                 // a dispersive event on either subpath makes the whole path hero-only: the
                 // visibility point's wavelengths carry the hero's 1/N pdf once
                 let (vp_term, ph_term) = (point_wl[vi as usize].secondary_terminated(), wl.secondary_terminated());
@@ -172,7 +179,13 @@ fn trace_photon(
         if (bs.wi.z * wo_local.z > 0.0) != (wi.dot(si.ng) * wi_photon.dot(si.ng) > 0.0) {
             break;
         }
-        beta *= bs.f * (bs.wi.z.abs() / bs.pdf);
+        // adjoint BSDF with shading normals (Veach 1997, eq. 5.19): the importance throughput
+        // f |wi . ns| / pdf times |wo . ns| |wi . ng| / (|wo . ng| |wi . ns|)
+        let cos_o_g = wi_photon.dot(si.ng).abs();
+        if cos_o_g <= 0.0 {
+            break;
+        }
+        beta *= bs.f * (wo_local.z.abs() * wi.dot(si.ng).abs() / (cos_o_g * bs.pdf));
         if !beta.is_finite() || beta.is_black() {
             break;
         }

@@ -1,0 +1,156 @@
+//! Image comparison (`quasar compare`): error metrics of one EXR against a reference, per layer,
+//! and a false-colour difference image.
+
+use std::path::Path;
+
+use crate::output::ExrImage;
+
+/// Error metrics of one layer of an image against a reference.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LayerError {
+    /// Layer name ("" for the beauty channels R, G, B, Y; else e.g. "indirect").
+    pub layer: String,
+    /// Root mean squared error over the layer's channels and pixels.
+    pub rmse: f64,
+    /// Relative MSE: mean over channels and pixels of (a - r)^2 / (r^2 + 1e-3) (the usual
+    /// denoising-literature relMSE; the 1e-3 keeps black reference pixels finite).
+    pub rel_mse: f64,
+    /// Mean relative error |a - r| / (|r| + 1e-3).
+    pub mean_rel_error: f64,
+    /// Largest absolute difference.
+    pub max_error: f64,
+    /// Mean of the image's layer and of the reference's.
+    pub means: (f64, f64),
+}
+
+/// The epsilon of [`LayerError::rel_mse`] and [`LayerError::mean_rel_error`].
+pub const REL_EPS: f64 = 1e-3;
+
+/// Relative MSE of `a` against `r` (see [`LayerError::rel_mse`]).
+pub fn rel_mse(a: &[f32], r: &[f32]) -> f64 {
+    let n = a.len().min(r.len()).max(1);
+    a.iter().zip(r).map(|(&a, &r)| (a as f64 - r as f64).powi(2) / ((r as f64).powi(2) + REL_EPS)).sum::<f64>()
+        / n as f64
+}
+
+/// The layer of a channel name: the part before the last '.', or "" for bare beauty channels.
+fn layer_of(name: &str) -> &str {
+    name.rsplit_once('.').map_or("", |(l, _)| l)
+}
+
+/// Compares `img` against `reference` for every layer present in both (or only `only`), over
+/// channels with the same name. Errors when the sizes differ or nothing is shared.
+pub fn compare(img: &ExrImage, reference: &ExrImage, only: Option<&str>) -> Result<Vec<LayerError>, String> {
+    if (img.width, img.height) != (reference.width, reference.height) {
+        return Err(format!(
+            "image sizes differ: {}x{} vs reference {}x{}",
+            img.width, img.height, reference.width, reference.height
+        ));
+    }
+    let mut layers: Vec<&str> = Vec::new();
+    for c in &img.channels {
+        let l = layer_of(&c.name);
+        if matches!(l, "spp" | "depth") || reference.channel(&c.name).is_none() || layers.contains(&l) {
+            continue;
+        }
+        if only.is_none_or(|o| o == l || (o == "beauty" && l.is_empty())) {
+            layers.push(l);
+        }
+    }
+    if layers.is_empty() {
+        return Err(match only {
+            Some(o) => format!("layer '{o}' is not in both images"),
+            None => "the images share no layer".into(),
+        });
+    }
+    let mut out = Vec::new();
+    for l in layers {
+        let (mut se, mut rel, mut mre, mut max, mut n) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0usize);
+        let (mut sum_a, mut sum_r) = (0.0f64, 0.0f64);
+        for c in img.channels.iter().filter(|c| layer_of(&c.name) == l) {
+            let Some(r) = reference.channel(&c.name) else { continue };
+            for (&a, &r) in c.values.iter().zip(r) {
+                let (a, r) = (a as f64, r as f64);
+                if !a.is_finite() || !r.is_finite() {
+                    continue;
+                }
+                let d = a - r;
+                se += d * d;
+                rel += d * d / (r * r + REL_EPS);
+                mre += d.abs() / (r.abs() + REL_EPS);
+                max = max.max(d.abs());
+                sum_a += a;
+                sum_r += r;
+                n += 1;
+            }
+        }
+        let nf = n.max(1) as f64;
+        out.push(LayerError {
+            layer: if l.is_empty() { "beauty".into() } else { l.to_string() },
+            rmse: (se / nf).sqrt(),
+            rel_mse: rel / nf,
+            mean_rel_error: mre / nf,
+            max_error: max,
+            means: (sum_a / nf, sum_r / nf),
+        });
+    }
+    Ok(out)
+}
+
+/// False colour of a signed relative difference: blue (image darker) through black (equal) to red
+/// (image brighter), saturating at +-`full_scale`.
+fn false_colour(rel: f64, full_scale: f64) -> [u8; 3] {
+    let t = (rel / full_scale).clamp(-1.0, 1.0);
+    let v = (t.abs().sqrt() * 255.0 + 0.5) as u8;
+    if t >= 0.0 { [v, (v as f32 * 0.25) as u8, 0] } else { [0, (v as f32 * 0.25) as u8, v] }
+}
+
+/// Writes a PNG of the per-pixel relative difference of luminance `Y` (image - reference) /
+/// (reference + 1e-3), in false colour saturating at +-100%.
+pub fn write_difference_png(img: &ExrImage, reference: &ExrImage, path: &Path) -> Result<(), String> {
+    let (Some(a), Some(r)) = (img.channel("Y"), reference.channel("Y")) else {
+        return Err("both images need a Y channel for the difference image".into());
+    };
+    let mut buf = Vec::with_capacity(a.len() * 3);
+    for (&a, &r) in a.iter().zip(r) {
+        let rel = (a as f64 - r as f64) / (r.abs() as f64 + REL_EPS);
+        buf.extend(false_colour(if rel.is_finite() { rel } else { 0.0 }, 1.0));
+    }
+    let png = image::RgbImage::from_raw(img.width as u32, img.height as u32, buf).ok_or("image size mismatch")?;
+    let tmp = path.with_extension("png.tmp");
+    png.save_with_format(&tmp, image::ImageFormat::Png).map_err(|e| format!("{}: {e}", path.display()))?;
+    std::fs::rename(&tmp, path).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::film::Channel;
+
+    fn image(values: &[f32]) -> ExrImage {
+        let ch = |n: &str| Channel { name: n.into(), values: values.to_vec() };
+        ExrImage {
+            width: values.len(),
+            height: 1,
+            channels: vec![ch("Y"), ch("R"), ch("direct.R"), ch("spp.Y")],
+            metadata: vec![],
+        }
+    }
+
+    #[test]
+    fn metrics_of_known_differences() {
+        let r = image(&[1.0, 2.0, 0.0, 4.0]);
+        let a = image(&[1.0, 3.0, 0.0, 2.0]);
+        let e = compare(&a, &r, None).unwrap();
+        let names: Vec<_> = e.iter().map(|l| l.layer.as_str()).collect();
+        assert_eq!(names, ["beauty", "direct"]);
+        let d = &e[1];
+        assert!((d.rmse - (5.0f64 / 4.0).sqrt()).abs() < 1e-12);
+        assert!((d.rel_mse - (1.0 / (4.0 + REL_EPS) + 4.0 / (16.0 + REL_EPS)) / 4.0).abs() < 1e-12);
+        assert_eq!(d.max_error, 2.0);
+        assert_eq!(d.means, (1.5, 1.75));
+        assert_eq!(compare(&r, &r, Some("direct")).unwrap()[0].rel_mse, 0.0);
+        assert!(compare(&r, &r, Some("caustic")).is_err());
+        assert!(compare(&image(&[1.0]), &r, None).is_err());
+    }
+}
