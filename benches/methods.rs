@@ -10,8 +10,9 @@ use std::path::Path;
 use std::time::Instant;
 
 use quasar::compare::rel_mse;
-use quasar::integrator::vismap::{self, VismapRun, VismapSettings};
+use quasar::integrator::vismap::{self, GatherDepth, VismapRun, VismapSettings};
 use quasar::job::{JobOverrides, load_scene, render_desc};
+use quasar::method::BidirectionalOptions;
 
 fn env_or<T: std::str::FromStr>(key: &str, default: T) -> T {
     std::env::var(key).ok().and_then(|v| v.parse().ok()).unwrap_or(default)
@@ -26,7 +27,7 @@ fn photon_throughput(scene_path: &str) {
             let settings = VismapSettings {
                 iterations: 8,
                 photons_per_iteration: Some(200_000),
-                gather_depth: depth,
+                depth: GatherDepth::Fixed(depth),
                 ..VismapSettings::default()
             };
             let run = VismapRun { seed: 1, time_limit: None, progress: false };
@@ -73,8 +74,11 @@ fn equal_time(scene_path: &str, w: u32, h: u32, ref_spp: u32, times: &[f64]) {
                 time_s: Some(budget),
                 seed: Some(1),
                 method: Some(method.into()),
-                gather_depth: depth,
-                photons_per_iteration: depth.map(|_| (w * h * 4) as u64),
+                bidir: BidirectionalOptions {
+                    gather_depth: depth,
+                    photons_per_iteration: depth.map(|_| (w * h * 4) as u64),
+                    ..Default::default()
+                },
                 ..base.clone()
             };
             let out = render_desc(&desc, &ov, false).unwrap();

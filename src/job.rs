@@ -10,53 +10,11 @@ use quasar_importers::{ImportOptions, SceneDesc, import_scene};
 use crate::camera::Camera;
 use crate::film::Channel;
 use crate::integrator::PtSettings;
-use crate::integrator::vismap::{self, VismapRun, VismapSettings};
+use crate::integrator::vismap::{self, GatherDepth, VismapRun};
+use crate::method::{BidirectionalOptions, Method, bidirectional_settings};
 use crate::output::{ExrImage, write_exr_atomic, write_preview_png};
 use crate::render::{RenderOptions, RenderResult, render};
 use crate::scene::Scene;
-
-/// Integration methods the renderer offers.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Method {
-    /// Scene analysis picks the method (DESIGN.md 3.5); with only `pt` implemented, it picks `pt`.
-    Auto,
-    /// Reference path tracer.
-    Pt,
-    /// Bidirectional tracing with visibility maps at a fixed gather depth.
-    Vismap,
-}
-
-impl Method {
-    /// Parses a method name.
-    pub fn from_name(name: &str) -> Result<Self> {
-        match name {
-            "auto" => Ok(Self::Auto),
-            "pt" => Ok(Self::Pt),
-            "vismap" => Ok(Self::Vismap),
-            "adaptive" | "quasi" | "adaptive+quasi" => {
-                bail!("method '{name}' is not available in this build yet (available: auto, pt, vismap)")
-            }
-            _ => bail!("unknown method '{name}' (expected auto, pt, vismap, adaptive, quasi or adaptive+quasi)"),
-        }
-    }
-
-    /// The method actually run.
-    pub fn resolve(self, _scene: &Scene) -> Self {
-        match self {
-            Self::Auto => Self::Pt,
-            m => m,
-        }
-    }
-
-    /// Name as written in headers.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Auto => "auto",
-            Self::Pt => "pt",
-            Self::Vismap => "vismap",
-        }
-    }
-}
 
 /// Settings that override the scene file's `[render]` table (None = keep the scene's).
 #[derive(Clone, Debug, Default)]
@@ -77,16 +35,8 @@ pub struct JobOverrides {
     pub max_depth: Option<u32>,
     /// Method name.
     pub method: Option<String>,
-    /// `vismap`: iterations (default: the scene's spp).
-    pub iterations: Option<u32>,
-    /// `vismap`: photons per iteration (default: one per pixel).
-    pub photons_per_iteration: Option<u64>,
-    /// `vismap`: gather depth.
-    pub gather_depth: Option<u32>,
-    /// `vismap`: initial gather radius in scene units (default: from the pixel footprint).
-    pub radius: Option<f32>,
-    /// `vismap`: radius reduction alpha.
-    pub alpha: Option<f32>,
+    /// Settings of the bidirectional methods.
+    pub bidir: BidirectionalOptions,
 }
 
 /// A finished render with everything needed to write it.
@@ -121,16 +71,20 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     let max_depth = ov.max_depth.or(r.max_depth);
     let method = Method::from_name(ov.method.as_deref().unwrap_or(&r.method))?;
 
-    let vismap_cfg = if method == Method::Vismap {
-        Some(vismap_settings(ov, if time_s.is_some() { u32::MAX / 2 } else { spp })?)
-    } else if vismap_flags_given(ov) {
-        bail!("--iterations, --photons-per-iteration, --gather-depth, --radius and --alpha apply to --method vismap");
-    } else {
-        None
-    };
     let scene = Scene::compile(desc).context("compiling the scene")?;
     let camera = Camera::new(&desc.camera, width, height).with_context(|| desc.source.display().to_string())?;
     let resolved = method.resolve(&scene);
+    let bidir = if resolved.is_bidirectional() {
+        // with a time budget, the iteration count is only a cap
+        Some(bidirectional_settings(resolved, &ov.bidir, if time_s.is_some() { u32::MAX / 2 } else { spp })?)
+    } else if ov.bidir.any() {
+        bail!(
+            "the bidirectional options (--iterations, --photons-per-iteration, --gather-depth, ...) do not apply to {}",
+            resolved.name()
+        );
+    } else {
+        None
+    };
     let opts = RenderOptions {
         // with a time budget, spp is only a cap
         spp: if time_s.is_some() { ov.spp.unwrap_or(u32::MAX / 2) } else { spp },
@@ -142,10 +96,19 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     };
     let threads = opts.threads.unwrap_or_else(rayon::current_num_threads).max(1);
     let mut metadata = Vec::new();
-    let result = match (resolved, vismap_cfg) {
-        (Method::Vismap, Some(v)) => {
+    let result = match bidir {
+        Some(v) => {
             let run = VismapRun { seed, time_limit: time_s, progress };
             let (result, stats) = vismap::render(&scene, &camera, &v, &run, threads);
+            let depth = match v.depth {
+                GatherDepth::Fixed(d) => d.to_string(),
+                GatherDepth::Adaptive { max_depth, paper } => {
+                    format!(
+                        "adaptive (0..={max_depth}, {})",
+                        if paper { "paper variant" } else { "earlier iterations" }
+                    )
+                }
+            };
             metadata.extend([
                 ("iterations".to_string(), result.spp.to_string()),
                 (
@@ -153,7 +116,8 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
                     v.photons_per_iteration.unwrap_or(width as u64 * height as u64).to_string(),
                 ),
                 ("photons".into(), stats.photons.to_string()),
-                ("gather_depth".into(), v.gather_depth.to_string()),
+                ("gather_depth".into(), depth),
+                ("cone_deg".into(), v.cone_deg.map_or("none".into(), |c| c.to_string())),
                 (
                     "radius".into(),
                     v.radius.map_or(format!("auto ({} pixel footprints)", v.radius_pixels), |r| r.to_string()),
@@ -163,10 +127,11 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
             ]);
             result
         }
-        _ => render(&scene, &camera, &opts),
+        None => render(&scene, &camera, &opts),
     };
     let mut channels = result.film.channels();
     channels.push(Channel { name: "depth.Z".into(), values: result.depth.clone() });
+    channels.extend(result.extra.iter().cloned());
     let mut header = vec![
         ("software".into(), concat!("quasar ", env!("CARGO_PKG_VERSION")).to_string()),
         ("scene".into(), desc.source.display().to_string()),
@@ -187,44 +152,6 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     let metadata = header;
     let image = ExrImage { width: width as usize, height: height as usize, channels, metadata };
     Ok(JobOutput { image, result })
-}
-
-fn vismap_flags_given(ov: &JobOverrides) -> bool {
-    ov.iterations.is_some()
-        || ov.photons_per_iteration.is_some()
-        || ov.gather_depth.is_some()
-        || ov.radius.is_some()
-        || ov.alpha.is_some()
-}
-
-/// `vismap` settings from the overrides; iterations default to the scene's spp.
-fn vismap_settings(ov: &JobOverrides, spp: u32) -> Result<VismapSettings> {
-    let mut v = VismapSettings { iterations: ov.iterations.unwrap_or(spp).max(1), ..VismapSettings::default() };
-    if let Some(n) = ov.photons_per_iteration {
-        if n == 0 || n > 1 << 32 {
-            bail!("--photons-per-iteration must be in 1..=2^32, got {n}");
-        }
-        v.photons_per_iteration = Some(n);
-    }
-    if let Some(d) = ov.gather_depth {
-        if d > 64 {
-            bail!("--gather-depth must be in 0..=64, got {d}");
-        }
-        v.gather_depth = d;
-    }
-    if let Some(r) = ov.radius {
-        if !(r > 0.0 && r.is_finite()) {
-            bail!("--radius must be a positive length, got {r}");
-        }
-        v.radius = Some(r);
-    }
-    if let Some(a) = ov.alpha {
-        if !(a > 0.0 && a < 1.0) {
-            bail!("--alpha must be in (0, 1), got {a}");
-        }
-        v.alpha = a;
-    }
-    Ok(v)
 }
 
 /// Writes the EXR (atomically) and an optional PNG preview.

@@ -6,6 +6,7 @@
 //! multi-layer EXR.
 #![warn(missing_docs)]
 
+pub mod analysis;
 pub mod camera;
 pub mod compare;
 pub mod film;
@@ -13,6 +14,7 @@ pub mod geometry;
 pub mod integrator;
 pub mod job;
 pub mod light;
+pub mod method;
 pub mod output;
 pub mod render;
 pub mod sampling;

@@ -5,6 +5,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 use quasar::job::{JobOverrides, load_scene, render_desc, write_outputs};
+use quasar::method::BidirectionalOptions;
 use quasar::scene::Scene;
 
 #[derive(Parser)]
@@ -24,7 +25,7 @@ enum Command {
         /// Output EXR (default: the scene's name with .exr, in the current directory).
         #[arg(short, long)]
         output: Option<PathBuf>,
-        /// Integration method: auto | pt | vismap.
+        /// Integration method: auto | pt | vismap | adaptive | quasi | adaptive+quasi.
         #[arg(long)]
         method: Option<String>,
         /// Samples per pixel.
@@ -48,19 +49,29 @@ enum Command {
         /// Maximum number of scattering events per path (default: unbounded).
         #[arg(long)]
         max_depth: Option<u32>,
-        /// vismap: number of iterations (default: the scene's spp).
+        /// Bidirectional methods: number of iterations (default: the scene's spp).
         #[arg(long)]
         iterations: Option<u32>,
-        /// vismap: photons traced per iteration (default: one per pixel).
+        /// Bidirectional methods: photons traced per iteration (default: one per pixel).
         #[arg(long)]
         photons_per_iteration: Option<u64>,
-        /// vismap: non-specular camera-path vertex where photons are gathered (0 = first).
+        /// vismap, quasi: non-specular camera-path vertex where photons are gathered (0 = first).
         #[arg(long)]
         gather_depth: Option<u32>,
-        /// vismap: initial gather radius in scene units (default: 3 pixel footprints).
+        /// adaptive, adaptive+quasi: deepest gather depth considered (default 4).
+        #[arg(long)]
+        max_gather_depth: Option<u32>,
+        /// adaptive, adaptive+quasi: choose the depth from the iteration's own first ray (the
+        /// paper's variant; biased) instead of earlier iterations' pilot paths.
+        #[arg(long)]
+        adaptive_paper: bool,
+        /// quasi, adaptive+quasi: half-angle in degrees of the quasi-specular cone (default 10).
+        #[arg(long)]
+        cone: Option<f32>,
+        /// Bidirectional methods: initial gather radius in scene units (default: 3 pixel footprints).
         #[arg(long)]
         radius: Option<f32>,
-        /// vismap: radius reduction alpha in (0, 1) (default 2/3).
+        /// Bidirectional methods: radius reduction alpha in (0, 1) (default 2/3).
         #[arg(long)]
         alpha: Option<f32>,
         /// Also write a tone-mapped PNG preview.
@@ -107,6 +118,9 @@ fn run() -> anyhow::Result<()> {
             iterations,
             photons_per_iteration,
             gather_depth,
+            max_gather_depth,
+            adaptive_paper,
+            cone,
             radius,
             alpha,
             preview,
@@ -122,11 +136,16 @@ fn run() -> anyhow::Result<()> {
                 threads,
                 max_depth,
                 method,
-                iterations,
-                photons_per_iteration,
-                gather_depth,
-                radius,
-                alpha,
+                bidir: BidirectionalOptions {
+                    iterations,
+                    photons_per_iteration,
+                    gather_depth,
+                    max_gather_depth,
+                    adaptive_paper,
+                    cone_deg: cone,
+                    radius,
+                    alpha,
+                },
             };
             let out = render_desc(&desc, &ov, !quiet)?;
             let exr = output.unwrap_or_else(|| {
@@ -180,7 +199,7 @@ fn run() -> anyhow::Result<()> {
                 compiled.lights.len() - desc.lights.len()
             );
             println!("bounding sphere: centre {:?}, radius {}", compiled.center, compiled.radius);
-            println!("auto method: pt (the only method in this build)");
+            print!("{}", quasar::analysis::SceneAnalysis::of(&compiled).report());
             Ok(())
         }
     }

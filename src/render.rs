@@ -45,6 +45,8 @@ pub struct RenderResult {
     pub film: Film,
     /// Camera distance of the first hit along the pixel-centre ray (infinity for misses).
     pub depth: Vec<f32>,
+    /// Method-specific AOV channels (e.g. `trace_depth.Y`).
+    pub extra: Vec<crate::film::Channel>,
     /// Samples per pixel actually taken.
     pub spp: u32,
     /// Wall-clock seconds spent rendering (excluding scene loading).
@@ -109,7 +111,7 @@ fn render_in_pool(scene: &Scene, camera: &Camera, opts: &RenderOptions, threads:
         b.finish_and_clear();
     }
     let depth = depth_pass(scene, camera);
-    RenderResult { film, depth, spp: done, seconds: start.elapsed().as_secs_f64(), threads }
+    RenderResult { film, depth, extra: Vec::new(), spp: done, seconds: start.elapsed().as_secs_f64(), threads }
 }
 
 /// A progress bar with ETA on stderr over `total` units of work, or None when `show` is false.

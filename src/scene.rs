@@ -3,7 +3,8 @@
 
 use glam::Vec3;
 use quasar_importers::{LightDesc, SceneDesc};
-use quasar_materials::{Frame, Material};
+use quasar_materials::{Frame, Material, NonUniformity};
+use rayon::prelude::*;
 
 use crate::geometry::{Accel, Hit, NONE, Ray, TriangleGeom, TriangleInfo};
 use crate::light::{Emission, Light, LightSampler};
@@ -83,6 +84,8 @@ pub struct Scene {
     pub materials: Vec<Material>,
     /// Material names (same order).
     pub material_names: Vec<String>,
+    /// Non-uniformity coefficient kappa of each material over incidence (DESIGN.md 3.3).
+    pub non_uniformity: Vec<NonUniformity>,
     /// Emission records of emissive meshes.
     pub emissions: Vec<Emission>,
     /// All lights.
@@ -213,6 +216,7 @@ impl Scene {
             accel,
             materials: desc.materials.iter().map(|m| m.material.clone()).collect(),
             material_names: desc.materials.iter().map(|m| m.name.clone()).collect(),
+            non_uniformity: desc.materials.par_iter().map(|m| NonUniformity::of_material(&m.material)).collect(),
             emissions,
             lights,
             infinite_lights,

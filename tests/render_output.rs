@@ -135,7 +135,8 @@ fn same_seed_gives_bit_identical_pixels_with_one_and_two_threads() {
 #[test]
 fn exr_file_has_the_layers_and_settings() {
     let scene = write_scene(BOX, &[]);
-    let out = render_file(&scene.path, &JobOverrides { spp: Some(2), seed: Some(9), ..Default::default() });
+    let ov = JobOverrides { spp: Some(2), seed: Some(9), method: Some("pt".into()), ..Default::default() };
+    let out = render_file(&scene.path, &ov);
     let path = scene.dir.path().join("out.exr");
     let png = scene.dir.path().join("out.png");
     write_outputs(&out, &path, Some(&png)).unwrap();
@@ -156,6 +157,9 @@ fn exr_file_has_the_layers_and_settings() {
         "indirect.R",
         "indirect.G",
         "indirect.B",
+        "caustic.R",
+        "caustic.G",
+        "caustic.B",
         "depth.Z",
         "spp.Y",
     ] {

@@ -7,6 +7,7 @@ use std::path::Path;
 
 use common::{layer_luminance, mean, rel_mse, render_file, write_scene};
 use quasar::job::JobOverrides;
+use quasar::method::BidirectionalOptions;
 
 fn pt(path: &Path, w: u32, h: u32, spp: u32) -> Vec<f32> {
     let ov = JobOverrides {
@@ -26,9 +27,12 @@ fn vismap_ov(w: u32, h: u32, iterations: u32, depth: u32) -> JobOverrides {
         height: Some(h),
         seed: Some(5),
         method: Some("vismap".into()),
-        iterations: Some(iterations),
-        photons_per_iteration: Some(20_000),
-        gather_depth: Some(depth),
+        bidir: BidirectionalOptions {
+            iterations: Some(iterations),
+            photons_per_iteration: Some(20_000),
+            gather_depth: Some(depth),
+            ..Default::default()
+        },
         ..Default::default()
     }
 }
@@ -127,9 +131,12 @@ emission = {{ spectrum = {{ constant = 1.0 }}, scale = {le} }}
         let ov = JobOverrides {
             seed: Some(4),
             method: Some("vismap".into()),
-            iterations: Some(64),
-            photons_per_iteration: Some(20_000),
-            gather_depth: Some(depth),
+            bidir: BidirectionalOptions {
+                iterations: Some(64),
+                photons_per_iteration: Some(20_000),
+                gather_depth: Some(depth),
+                ..Default::default()
+            },
             ..Default::default()
         };
         let img = render_file(&scene.path, &ov).image;
@@ -160,12 +167,9 @@ fn pt_and_vismap(
     let vm = [0, 1]
         .iter()
         .map(|&depth| {
-            let ov = JobOverrides {
-                seed: Some(8),
-                photons_per_iteration: Some(photons),
-                radius,
-                ..vismap_ov(32, 24, 128, depth)
-            };
+            let mut ov = JobOverrides { seed: Some(8), ..vismap_ov(32, 24, 128, depth) };
+            ov.bidir.photons_per_iteration = Some(photons);
+            ov.bidir.radius = radius;
             render_file(&scene.path, &ov).image
         })
         .collect();

@@ -7,9 +7,11 @@
 pub mod bsdf;
 pub mod frame;
 pub mod material;
+pub mod non_uniformity;
 pub mod spectrum;
 pub mod warp;
 
 pub use bsdf::{Bsdf, BsdfSample, Lobe, TransportMode};
 pub use frame::Frame;
 pub use material::{ConductorFresnel, Ior, Material};
+pub use non_uniformity::NonUniformity;

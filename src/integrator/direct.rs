@@ -37,6 +37,22 @@ pub fn sample_direct(
     wl: &SampledWavelengths,
     sampler: &mut Sampler,
 ) -> SampledSpectrum {
+    sample_direct_outside(scene, si, bsdf, wo_local, wl, sampler, |_| false)
+}
+
+/// [`sample_direct`] restricted to the directions where `excluded(wi_local)` is false: light
+/// samples in the excluded set contribute nothing (DESIGN.md 3.4: the quasi-specular cone C is
+/// estimated by the continued path instead).
+#[inline]
+pub fn sample_direct_outside(
+    scene: &Scene,
+    si: &SurfaceInteraction,
+    bsdf: &Bsdf,
+    wo_local: Vec3,
+    wl: &SampledWavelengths,
+    sampler: &mut Sampler,
+    excluded: impl Fn(Vec3) -> bool,
+) -> SampledSpectrum {
     let u_light = sampler.get_1d();
     let u_point = sampler.get_2d();
     let Some((li_index, p_select)) = scene.light_sampler.sample(u_light) else {
@@ -50,6 +66,9 @@ pub fn sample_direct(
         return SampledSpectrum::zero();
     }
     let wi_local = si.frame().to_local(ls.wi);
+    if excluded(wi_local) {
+        return SampledSpectrum::zero();
+    }
     let f = bsdf.f(wo_local, wi_local, TransportMode::Radiance) * wi_local.z.abs();
     if f.is_black() {
         return SampledSpectrum::zero();

@@ -152,6 +152,19 @@ impl Bsdf {
     pub fn has_transmission(&self) -> bool {
         matches!(self, Bsdf::Dielectric(_))
     }
+
+    /// The ideal (specular) scattering directions of `wo` in the local frame: the mirror
+    /// direction and, for dielectrics, the Snell refraction direction (None under total internal
+    /// reflection). These are the axes of the quasi-specular cones (DESIGN.md section 3.4).
+    /// Lambertian and black surfaces have no lobe around them and return (None, None).
+    pub fn ideal_directions(&self, wo: Vec3) -> (Option<Vec3>, Option<Vec3>) {
+        let mirror = Vec3::new(-wo.x, -wo.y, wo.z);
+        match self {
+            Bsdf::Black | Bsdf::Diffuse(_) => (None, None),
+            Bsdf::Conductor(_) => (Some(mirror), None),
+            Bsdf::Dielectric(b) => (Some(mirror), refract(wo, Vec3::Z, b.eta).map(|(wt, _)| wt.normalize())),
+        }
+    }
 }
 
 /// Deterministic helpers for the unit tests of this module tree.

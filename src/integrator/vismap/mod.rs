@@ -5,10 +5,12 @@
 //! L^I = beta f(wo, wi) Phi / (N_F pi r^2) at the visibility points within radius r. The image is
 //! the average of the iterations' L^V + L^D + L^I. Radii shrink as progressive photon mapping's
 //! r_k^2 = r_{k-1}^2 (k - 1 + alpha) / k (Knaus & Zwicker 2011), so the average converges to the
-//! path tracer's image.
+//! path tracer's image. The adaptive-depth (3.3) and quasi-specular (3.4) methods are the same
+//! passes with a per-pixel gather depth and a cone C around ideal directions.
 
 pub mod grid;
 pub mod photon_pass;
+pub mod quasi_cone;
 pub mod visibility_point;
 
 use std::f64::consts::PI;
@@ -20,23 +22,42 @@ use rayon::prelude::*;
 
 use self::grid::VisibilityGrid;
 use self::photon_pass::{GatherRadii, PhotonSums, trace_photons};
-use self::visibility_point::{CameraPathResult, trace_camera_path};
+use self::visibility_point::{CameraPathResult, GatherRule, pilot_gather_depth, trace_camera_path};
 use crate::camera::Camera;
-use crate::film::Film;
+use crate::film::{Channel, Film};
 use crate::render::{RenderResult, depth_pass, progress_bar};
 use crate::sampling::{Sampler, mix64};
 use crate::scene::Scene;
 
-/// Settings of `vismap` (CLI: `--iterations --photons-per-iteration --gather-depth --radius
-/// --alpha`).
+/// Where camera paths gather photons.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GatherDepth {
+    /// Every pixel at this depth (`vismap --gather-depth D`; 0 = first non-specular vertex).
+    Fixed(u32),
+    /// Per pixel and iteration, the depth of least non-uniformity kappa (DESIGN.md 3.3), up to
+    /// `max_depth`.
+    Adaptive {
+        /// Deepest depth considered.
+        max_depth: u32,
+        /// The paper's variant: the depth comes from the iteration's own first camera ray (biased:
+        /// the choice depends on the estimate's own path). Otherwise: the mode of the depths
+        /// chosen by independent pilot paths of earlier iterations (unbiased per iteration).
+        paper: bool,
+    },
+}
+
+/// Settings of the bidirectional methods: `vismap`, `adaptive`, `quasi`, `adaptive+quasi`
+/// (CLI: `--iterations --photons-per-iteration --gather-depth --radius --alpha --cone`).
 #[derive(Clone, Copy, Debug)]
 pub struct VismapSettings {
     /// Number of iterations (each: one camera path per pixel and one photon pass).
     pub iterations: u32,
     /// Photons per iteration (None: one per pixel).
     pub photons_per_iteration: Option<u64>,
-    /// Non-specular vertex of the camera path where photons are gathered (0 = first).
-    pub gather_depth: u32,
+    /// How the gather depth is chosen.
+    pub depth: GatherDepth,
+    /// Half-angle in degrees of the quasi-specular cone (None: no quasi-specular tracing).
+    pub cone_deg: Option<f32>,
     /// Initial indirect gather radius in scene units (None: automatic from the pixel footprint).
     pub radius: Option<f32>,
     /// Automatic initial indirect radius, in pixel footprints at the path's first non-specular
@@ -55,13 +76,40 @@ impl Default for VismapSettings {
         Self {
             iterations: 64,
             photons_per_iteration: None,
-            gather_depth: 0,
+            depth: GatherDepth::Fixed(0),
+            cone_deg: None,
             radius: None,
             radius_pixels: 3.0,
             caustic_ratio: 0.5,
             alpha: 2.0 / 3.0,
             max_specular: 64,
         }
+    }
+}
+
+/// Most depths an adaptive histogram tracks (0..=MAX_ADAPTIVE_DEPTH).
+pub const MAX_ADAPTIVE_DEPTH: u32 = 7;
+
+/// Per-pixel histograms of the depths chosen by pilot paths (DESIGN.md 3.3).
+struct DepthHistogram {
+    counts: Vec<[u32; MAX_ADAPTIVE_DEPTH as usize + 1]>,
+}
+
+impl DepthHistogram {
+    fn new(n: usize) -> Self {
+        Self { counts: vec![[0; MAX_ADAPTIVE_DEPTH as usize + 1]; n] }
+    }
+
+    /// The most frequent depth of pixel `i` (ties: the smaller depth; none seen: 0).
+    fn mode(&self, i: usize) -> u32 {
+        let c = &self.counts[i];
+        let mut best = 0;
+        for d in 1..c.len() {
+            if c[d] > c[best] {
+                best = d;
+            }
+        }
+        best as u32
     }
 }
 
@@ -88,6 +136,8 @@ pub struct VismapStats {
     pub photon_seconds: f64,
     /// Largest visibility-grid size of an iteration, bytes.
     pub grid_bytes: usize,
+    /// Most visibility points of an iteration.
+    pub max_points: usize,
 }
 
 /// Options of a `vismap` render that are not method settings.
@@ -101,8 +151,8 @@ pub struct VismapRun {
     pub progress: bool,
 }
 
-/// Renders `scene` with `vismap`. Deterministic for a seed: every camera path and photon has
-/// its own stream and all reductions run in a fixed order.
+/// Renders `scene` with a bidirectional method. Deterministic for a seed: every camera path,
+/// pilot path and photon has its own stream and all reductions run in a fixed order.
 pub fn render(
     scene: &Scene,
     camera: &Camera,
@@ -114,6 +164,55 @@ pub fn render(
     pool.install(|| render_in_pool(scene, camera, settings, run, threads))
 }
 
+/// The gather depth of every pixel for iteration `k`, and the pilot depths it learned.
+fn iteration_depths(
+    scene: &Scene,
+    camera: &Camera,
+    settings: &VismapSettings,
+    rule: &GatherRule,
+    wl: SampledWavelengths,
+    seed: u64,
+    k: u32,
+    histogram: &mut DepthHistogram,
+) -> Vec<Option<u32>> {
+    let w = camera.width() as usize;
+    let n = histogram.counts.len();
+    let pilot = |i: usize, stream_seed: u64, k: u32, max_depth: u32| {
+        let mut sampler = Sampler::new(stream_seed, i as u64, k as u64);
+        let film_pos = Vec2::new((i % w) as f32, (i / w) as f32) + sampler.get_2d();
+        pilot_gather_depth(scene, camera.ray(film_pos), wl, &mut sampler, rule, max_depth)
+    };
+    match settings.depth {
+        GatherDepth::Fixed(d) => vec![Some(d); n],
+        GatherDepth::Adaptive { max_depth, paper: true } => {
+            // the iteration's own stream: the same first camera ray as the estimate
+            (0..n).into_par_iter().map(|i| pilot(i, seed, k, max_depth)).collect()
+        }
+        GatherDepth::Adaptive { max_depth, paper: false } => {
+            let pilot_seed = mix64(seed ^ 0x7069_6c6f_74);
+            if k == 1 {
+                let first: Vec<Option<u32>> =
+                    (0..n).into_par_iter().map(|i| pilot(i, pilot_seed, 0, max_depth)).collect();
+                for (c, d) in histogram.counts.iter_mut().zip(first) {
+                    if let Some(d) = d {
+                        c[d as usize] += 1;
+                    }
+                }
+            }
+            let chosen: Vec<Option<u32>> = (0..n).map(|i| Some(histogram.mode(i))).collect();
+            // this iteration's pilot paths only inform later iterations
+            let next: Vec<Option<u32>> = (0..n).into_par_iter().map(|i| pilot(i, pilot_seed, k, max_depth)).collect();
+            for (c, d) in histogram.counts.iter_mut().zip(next) {
+                if let Some(d) = d {
+                    c[d as usize] += 1;
+                }
+            }
+            chosen
+        }
+    }
+}
+
+#[allow(clippy::too_many_lines)]
 fn render_in_pool(
     scene: &Scene,
     camera: &Camera,
@@ -129,23 +228,34 @@ fn render_in_pool(
     let pixel_angle = camera.pixel_solid_angle().sqrt();
     let alpha = settings.alpha.clamp(1e-3, 1.0) as f64;
     let photon_seed = mix64(run.seed ^ 0x7068_6f74_6f6e);
+    let cone_cos = settings.cone_deg.map(|d| d.clamp(0.0, 90.0).to_radians().cos());
+    let base_rule = GatherRule { depth: 0, cone_cos, max_specular: settings.max_specular };
     let iterations = settings.iterations.max(1);
     let bar = progress_bar(run.progress, iterations as u64);
     let mut stats = VismapStats::default();
+    let mut histogram = DepthHistogram::new(n_pixels);
+    let mut depth_sum = vec![0u64; n_pixels];
+    let mut depth_count = vec![0u32; n_pixels];
     let mut done = 0;
     for k in 1..=iterations {
         let wl = SampledWavelengths::sample_visible(iteration_wavelength_u(run.seed, k));
+        let depths = iteration_depths(scene, camera, settings, &base_rule, wl, run.seed, k, &mut histogram);
         // backward pass
         let paths: Vec<CameraPathResult> = (0..n_pixels)
             .into_par_iter()
             .map(|i| {
                 let mut sampler = Sampler::new(run.seed, i as u64, k as u64);
-                let jitter = sampler.get_2d();
-                let film_pos = Vec2::new((i % w as usize) as f32, (i / w as usize) as f32) + jitter;
-                let ray = camera.ray(film_pos);
-                trace_camera_path(scene, ray, wl, &mut sampler, settings.gather_depth, settings.max_specular)
+                let film_pos = Vec2::new((i % w as usize) as f32, (i / w as usize) as f32) + sampler.get_2d();
+                let rule = GatherRule { depth: depths[i].unwrap_or(0), ..base_rule };
+                trace_camera_path(scene, camera.ray(film_pos), wl, &mut sampler, &rule)
             })
             .collect();
+        for (i, d) in depths.iter().enumerate() {
+            if let Some(d) = d {
+                depth_sum[i] += *d as u64;
+                depth_count[i] += 1;
+            }
+        }
         // visibility points and their radii for this iteration
         let shrink = radius2_factor(k, alpha).sqrt() as f32;
         let mut owners = Vec::new();
@@ -153,11 +263,11 @@ fn render_in_pool(
         let mut point_wl = Vec::new();
         let mut radii = Vec::new();
         for (i, p) in paths.iter().enumerate() {
-            if let Some(vp) = p.point {
+            for vp in &p.points {
                 let r0 = settings.radius.unwrap_or(settings.radius_pixels * pixel_angle * vp.footprint_distance);
                 let r = r0 * shrink;
                 owners.push(i);
-                points.push(vp);
+                points.push(*vp);
                 point_wl.push(p.wl);
                 radii.push(GatherRadii { indirect: r, caustic: r * settings.caustic_ratio });
             }
@@ -165,9 +275,10 @@ fn render_in_pool(
         let grid_input: Vec<_> = points.iter().zip(&radii).map(|(p, r)| (p.p, r.indirect)).collect();
         let grid = VisibilityGrid::build(&grid_input);
         stats.grid_bytes = stats.grid_bytes.max(grid.memory_bytes());
+        stats.max_points = stats.max_points.max(points.len());
         // forward pass
         let t_photons = Instant::now();
-        let photons = trace_photons(scene, &wl, &points, &point_wl, &radii, &grid, n_photons, photon_seed, k);
+        let photons = trace_photons(scene, &wl, &points, &point_wl, &radii, &grid, n_photons, photon_seed, k, cone_cos);
         stats.photon_seconds += t_photons.elapsed().as_secs_f64();
         stats.photons += n_photons;
         stats.lookups += photons.lookups;
@@ -175,11 +286,14 @@ fn render_in_pool(
         let mut estimates: Vec<_> = paths.iter().map(|p| (p.radiance, p.wl)).collect();
         for (j, &i) in owners.iter().enumerate() {
             let vp = &points[j];
-            let (l_ind, l_caus) = gathered_radiance(&photons.sums[j], &radii[j], n_photons, vp.beta);
+            let g = gathered_radiance(&photons.sums[j], &radii[j], n_photons, vp.beta);
             let (l, _) = &mut estimates[i];
-            // caustic layer: light -> specular+ -> the first non-specular vertex -> eye
-            l.add_indirect(l_caus, vp.depth == 0);
-            l.add_indirect(l_ind, false);
+            l.add_indirect(g.caustic_radius, false);
+            l.add_indirect(g.indirect_radius, false);
+            // the caustic layer: light -> specular+ -> this first non-specular vertex -> eye
+            if vp.class.nonspecular == 0 {
+                l.caustic += g.specular_only;
+            }
         }
         film.pixels.par_iter_mut().zip(estimates.par_iter()).for_each(|(px, (l, wl))| px.add(l, wl));
         done = k;
@@ -197,18 +311,26 @@ fn render_in_pool(
         b.finish_and_clear();
     }
     let depth = depth_pass(scene, camera);
-    let result = RenderResult { film, depth, spp: done, seconds: start.elapsed().as_secs_f64(), threads };
+    let trace_depth =
+        depth_sum.iter().zip(&depth_count).map(|(&s, &c)| if c > 0 { s as f32 / c as f32 } else { 0.0 }).collect();
+    let extra = vec![Channel { name: "trace_depth.Y".into(), values: trace_depth }];
+    let result = RenderResult { film, depth, extra, spp: done, seconds: start.elapsed().as_secs_f64(), threads };
     (result, stats)
+}
+
+/// L^I of one visibility point by photon class.
+struct Gathered {
+    /// Photons with a non-specular bounce: beta sum / (N pi r_i^2).
+    indirect_radius: SampledSpectrum,
+    /// Caustic photons: beta sum / (N pi r_c^2).
+    caustic_radius: SampledSpectrum,
+    /// The purely specular part of `caustic_radius`.
+    specular_only: SampledSpectrum,
 }
 
 /// L^I of one visibility point: beta * sum(f Phi) / (N pi r^2) for the indirect and caustic
 /// photon classes, each with its own radius.
-fn gathered_radiance(
-    sums: &PhotonSums,
-    radii: &GatherRadii,
-    n_photons: u64,
-    beta: SampledSpectrum,
-) -> (SampledSpectrum, SampledSpectrum) {
+fn gathered_radiance(sums: &PhotonSums, radii: &GatherRadii, n_photons: u64, beta: SampledSpectrum) -> Gathered {
     let estimate = |s: &[f64; 4], r: f32| {
         let area = PI * (r as f64) * (r as f64) * n_photons as f64;
         if !(area > 0.0 && area.is_finite()) {
@@ -216,7 +338,11 @@ fn gathered_radiance(
         }
         SampledSpectrum(std::array::from_fn(|k| (s[k] / area) as f32)) * beta
     };
-    (estimate(&sums.indirect, radii.indirect), estimate(&sums.caustic, radii.caustic))
+    Gathered {
+        indirect_radius: estimate(&sums.indirect, radii.indirect),
+        caustic_radius: estimate(&sums.caustic, radii.caustic),
+        specular_only: estimate(&sums.specular_only, radii.caustic),
+    }
 }
 
 #[cfg(test)]

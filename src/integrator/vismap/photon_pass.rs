@@ -8,6 +8,7 @@ use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
 use rayon::prelude::*;
 
 use super::grid::VisibilityGrid;
+use super::quasi_cone::{QuasiCone, in_cone};
 use super::visibility_point::VisibilityPoint;
 use crate::geometry::Ray;
 use crate::integrator::pt::russian_roulette;
@@ -39,10 +40,12 @@ pub struct GatherRadii {
 /// class. Divided by N pi r^2 of the class's radius it is the reflected radiance L^I.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct PhotonSums {
-    /// Photons with at least one non-specular bounce.
+    /// Photons with at least one non-specular (and not quasi-specular) bounce: radius r_i.
     pub indirect: [f64; 4],
-    /// Caustic photons.
+    /// Caustic photons (all bounces specular or quasi-specular): radius r_c.
     pub caustic: [f64; 4],
+    /// The part of `caustic` whose bounces were all truly specular (the `caustic` AOV layer).
+    pub specular_only: [f64; 4],
 }
 
 /// One photon's contribution to one visibility point.
@@ -50,6 +53,7 @@ pub struct PhotonSums {
 struct Deposit {
     point: u32,
     caustic: bool,
+    specular_only: bool,
     value: SampledSpectrum,
 }
 
@@ -62,7 +66,8 @@ pub struct PhotonPassResult {
 }
 
 /// Traces `n_photons` photons at the iteration's wavelengths `wl` with streams keyed by
-/// (`seed`, `iteration`, photon number) and returns the sums per visibility point. The reduction
+/// (`seed`, `iteration`, photon number) and returns the sums per visibility point. With a
+/// quasi-specular cone (`cone_cos`), bounces inside it keep a photon a caustic photon. The reduction
 /// adds chunks' deposits in photon order, so the result is the same for any thread count.
 #[allow(clippy::too_many_arguments)]
 pub fn trace_photons(
@@ -75,6 +80,7 @@ pub fn trace_photons(
     n_photons: u64,
     seed: u64,
     iteration: u32,
+    cone_cos: Option<f32>,
 ) -> PhotonPassResult {
     let n_chunks = n_photons.div_ceil(CHUNK as u64);
     let chunks: Vec<(Vec<Deposit>, u64)> = (0..n_chunks)
@@ -85,7 +91,8 @@ pub fn trace_photons(
             let end = ((c + 1) * CHUNK as u64).min(n_photons);
             for i in c * CHUNK as u64..end {
                 let mut sampler = Sampler::new(seed, i, iteration as u64);
-                lookups += trace_photon(scene, wl, points, point_wl, radii, grid, &mut sampler, &mut deposits);
+                lookups +=
+                    trace_photon(scene, wl, points, point_wl, radii, grid, cone_cos, &mut sampler, &mut deposits);
             }
             (deposits, lookups)
         })
@@ -95,10 +102,15 @@ pub fn trace_photons(
     for (deposits, n) in &chunks {
         lookups += n;
         for d in deposits {
-            let acc = &mut sums[d.point as usize];
-            let acc = if d.caustic { &mut acc.caustic } else { &mut acc.indirect };
+            let sum = &mut sums[d.point as usize];
+            let acc = if d.caustic { &mut sum.caustic } else { &mut sum.indirect };
             for (a, v) in acc.iter_mut().zip(d.value.0) {
                 *a += v as f64;
+            }
+            if d.specular_only {
+                for (a, v) in sum.specular_only.iter_mut().zip(d.value.0) {
+                    *a += v as f64;
+                }
             }
         }
     }
@@ -114,6 +126,7 @@ fn trace_photon(
     point_wl: &[SampledWavelengths],
     radii: &[GatherRadii],
     grid: &VisibilityGrid,
+    cone_cos: Option<f32>,
     sampler: &mut Sampler,
     deposits: &mut Vec<Deposit>,
 ) -> u64 {
@@ -129,6 +142,7 @@ fn trace_photon(
     let beta0 = beta.max_component();
     let mut ray = Ray::new(photon.origin, photon.dir);
     let mut caustic = true;
+    let mut specular_only = true;
     let mut lookups = 0;
     for bounce in 0..MAX_BOUNCES {
         let Some(si) = scene.intersect(&ray) else { break };
@@ -145,6 +159,9 @@ fn trace_photon(
                 // the photon density measures irradiance on the geometric surface; the BSDF
                 // integrates against the shading cosine: |wi . ns| / |wi . ng| (Veach 1997, 5.3)
                 let wi_local = vp.frame.to_local(wi_photon);
+                if in_cone(&vp.cone, wi_local) {
+                    continue; // the path continued through the cone estimates this light
+                }
                 let cos_g = wi_photon.dot(vp.ng).abs();
                 if cos_g <= 0.0 {
                     continue;
@@ -163,7 +180,7 @@ fn trace_photon(
                     }
                 }
                 if value.is_finite() && !value.is_black() {
-                    deposits.push(Deposit { point: vi, caustic, value });
+                    deposits.push(Deposit { point: vi, caustic, specular_only, value });
                 }
             }
         }
@@ -189,7 +206,9 @@ fn trace_photon(
         if !beta.is_finite() || beta.is_black() {
             break;
         }
-        caustic &= bs.specular;
+        specular_only &= bs.specular;
+        caustic &= bs.specular
+            || cone_cos.is_some_and(|c| QuasiCone::at(&bsdf, wo_local, c).is_some_and(|k| k.contains(bs.wi)));
         ray = si.spawn_ray(wi);
         if bounce + 1 >= RR_DEPTH {
             // roulette on the throughput relative to the emitted flux

@@ -1,18 +1,22 @@
-//! The backward (camera) pass of `vismap` (DESIGN.md section 3.2 step 2): a camera path that
-//! collects emission and MIS direct light up to its gather vertex and leaves a
-//! [`VisibilityPoint`] there for the photons of the forward pass.
+//! The backward (camera) pass (DESIGN.md section 3.2 step 2, with the quasi-specular cone of
+//! section 3.4): a camera path collects emission and MIS direct light up to its gather vertex and
+//! leaves [`VisibilityPoint`]s there for the photons of the forward pass.
 
 use glam::Vec3;
 use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
 use quasar_materials::{Bsdf, Frame, TransportMode};
 
+use super::quasi_cone::{QuasiCone, in_cone};
 use crate::geometry::Ray;
-use crate::integrator::direct::{PrevVertex, emitted_at_hit, escaped_radiance, sample_direct};
+use crate::integrator::direct::{PrevVertex, emitted_at_hit, escaped_radiance, sample_direct, sample_direct_outside};
 use crate::integrator::layers::{LayeredRadiance, PathClass};
 use crate::sampling::Sampler;
 use crate::scene::{Scene, SurfaceInteraction};
 
-/// A camera-path vertex where photons are gathered (one per pixel and iteration at most).
+/// Most visibility points one camera path may leave (a chain of quasi-specular gather vertices).
+pub const MAX_POINTS_PER_PATH: usize = 8;
+
+/// A camera-path vertex where photons are gathered.
 #[derive(Clone, Copy, Debug)]
 pub struct VisibilityPoint {
     /// Position.
@@ -27,78 +31,89 @@ pub struct VisibilityPoint {
     pub bsdf: Bsdf,
     /// Camera-path throughput from the eye to this vertex.
     pub beta: SampledSpectrum,
-    /// Non-specular events before this vertex (the gather depth).
+    /// The path's layer class on arrival (light gathered here is one more non-specular event).
+    pub class: PathClass,
+    /// Gather depth of this vertex (non-specular, non-quasi-specular events before it).
     pub depth: u32,
     /// Distance from the eye to the path's first non-specular vertex along the path (the
     /// pixel's footprint there sets the automatic gather radius).
     pub footprint_distance: f32,
+    /// Photons arriving inside this cone are not gathered here (quasi-specular methods).
+    pub cone: Option<QuasiCone>,
+}
+
+/// How a camera path chooses its gather vertices.
+#[derive(Clone, Copy, Debug)]
+pub struct GatherRule {
+    /// Gather at the non-specular vertex with this many non-specular, non-quasi-specular events
+    /// before it.
+    pub depth: u32,
+    /// cos(theta_c) of the quasi-specular cone, or None (plain `vismap`).
+    pub cone_cos: Option<f32>,
+    /// Longest chain of specular events a camera path follows.
+    pub max_specular: u32,
 }
 
 /// What one camera path of an iteration produced.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct CameraPathResult {
-    /// Emission and direct light collected on the way (layers `emission`, `direct`, and the
-    /// `indirect` light found before the gather vertex when the gather depth is > 0).
+    /// Emission and direct light collected on the way (and indirect light found before the
+    /// gather vertex when the gather depth is > 0).
     pub radiance: LayeredRadiance,
-    /// The gather vertex, if the path reached one.
-    pub point: Option<VisibilityPoint>,
+    /// The gather vertices the path reached (at most [`MAX_POINTS_PER_PATH`]).
+    pub points: Vec<VisibilityPoint>,
     /// The path's wavelengths (secondaries terminated by a dispersive interface).
     pub wl: SampledWavelengths,
 }
 
-/// MIS direct light at a gather vertex: light sampling (as everywhere) plus one BSDF sample traced
-/// to its first hit, weighted against light sampling when that hit is an emitter or escapes.
-/// Emission reached through a specular surface is not counted: photons carry it.
-fn gather_vertex_direct(
-    scene: &Scene,
-    si: &SurfaceInteraction,
-    bsdf: &Bsdf,
-    wo_local: Vec3,
-    wl: &SampledWavelengths,
-    sampler: &mut Sampler,
-) -> SampledSpectrum {
-    let mut l = sample_direct(scene, si, bsdf, wo_local, wl, sampler);
-    let uc = sampler.get_1d();
-    let u = sampler.get_2d();
-    let Some(bs) = bsdf.sample_f(wo_local, uc, u, TransportMode::Radiance) else { return l };
-    if bs.pdf <= 0.0 || bs.f.is_black() || bs.specular {
-        return l;
-    }
-    let frame = si.frame();
-    let wi = frame.from_local(bs.wi);
-    let wo = frame.from_local(wo_local);
-    if (bs.wi.z * wo_local.z > 0.0) != (wi.dot(si.ng) * wo.dot(si.ng) > 0.0) {
-        return l;
-    }
-    let weight = bs.f * (bs.wi.z.abs() / bs.pdf);
-    let prev = PrevVertex { p: si.p, pdf: bs.pdf };
-    let ray = si.spawn_ray(wi);
-    match scene.intersect(&ray) {
-        Some(hit) => l += weight * emitted_at_hit(scene, &hit, -wi, &prev, wl),
-        None => l += weight * escaped_radiance(scene, &prev, wl),
-    }
-    l
+/// The cone of a vertex when the rule has one and the BSDF has a lobe around an ideal direction.
+fn cone_at(rule: &GatherRule, bsdf: &Bsdf, wo_local: Vec3) -> Option<QuasiCone> {
+    rule.cone_cos.and_then(|c| QuasiCone::at(bsdf, wo_local, c))
 }
 
-/// Traces the camera path of one pixel for one iteration: specular events are followed exactly;
-/// at every non-specular vertex before `gather_depth` MIS direct light is added and the path
-/// continues by BSDF sampling; the non-specular vertex number `gather_depth` becomes the
-/// visibility point (after adding its own direct light). Paths are not Russian-rouletted: they
-/// are at most `gather_depth` + 1 non-specular vertices long; `max_specular` bounds specular
-/// chains (a path caught between mirrors).
+/// The BSDF-sampling half of MIS direct light at a gather vertex whose sampled direction left
+/// the cone: the one segment is traced and an emitter (or the environment) found there is
+/// weighted against light sampling. Emission reached through a specular surface is not counted:
+/// photons carry it.
+#[allow(clippy::too_many_arguments)]
+fn direct_by_bsdf_sample(
+    scene: &Scene,
+    si: &SurfaceInteraction,
+    wi: Vec3,
+    pdf: f32,
+    weight: SampledSpectrum,
+    wl: &SampledWavelengths,
+) -> SampledSpectrum {
+    let prev = PrevVertex { p: si.p, pdf };
+    match scene.intersect(&si.spawn_ray(wi)) {
+        Some(hit) => weight * emitted_at_hit(scene, &hit, -wi, &prev, wl),
+        None => weight * escaped_radiance(scene, &prev, wl),
+    }
+}
+
+/// Traces the camera path of one pixel for one iteration. Specular events are followed exactly.
+/// At a non-specular vertex before the gather depth, MIS direct light is added and the path
+/// continues by BSDF sampling (a sample inside the quasi-specular cone does not count as
+/// depth). At a gather vertex, direct light restricted to C' is added (light sampling + one BSDF
+/// sample, MIS) and a visibility point gathering photons from C' is left; a BSDF sample inside C
+/// continues the path (the integral over C), otherwise its one segment is traced for the emitter
+/// hit and the path ends. Without a cone every gather vertex ends the path (plain `vismap`).
+/// Paths are not Russian-rouletted: they are at most `depth` + 1 non-specular vertices long
+/// (plus quasi-specular chains of at most [`MAX_POINTS_PER_PATH`] gather vertices).
 pub fn trace_camera_path(
     scene: &Scene,
     mut ray: Ray,
     mut wl: SampledWavelengths,
     sampler: &mut Sampler,
-    gather_depth: u32,
-    max_specular: u32,
+    rule: &GatherRule,
 ) -> CameraPathResult {
     let mut out = LayeredRadiance::default();
+    let mut points = Vec::new();
     let mut beta = SampledSpectrum::one();
     let mut class = PathClass::default();
     let mut prev = PrevVertex::eye(ray.origin);
-    let mut path_length = 0.0f32;
+    let mut footprint_distance = 0.0f32;
+    let mut depth = 0u32;
     let mut specular_events = 0u32;
     loop {
         let Some(si) = scene.intersect(&ray) else {
@@ -106,34 +121,37 @@ pub fn trace_camera_path(
             break;
         };
         if class.nonspecular == 0 {
-            path_length += si.t;
+            footprint_distance += si.t;
         }
         let wo = -ray.dir;
         out.add(class, beta * emitted_at_hit(scene, &si, wo, &prev, &wl));
         let bsdf = scene.materials[si.material as usize].bsdf(&mut wl);
         let frame = si.frame();
         let wo_local = frame.to_local(wo);
-        if !bsdf.is_specular() {
-            if class.nonspecular == gather_depth {
-                let ld = gather_vertex_direct(scene, &si, &bsdf, wo_local, &wl, sampler);
-                out.add(class.scattered(false), beta * ld);
-                let point = VisibilityPoint {
-                    p: si.p,
-                    ng: si.ng,
-                    frame,
-                    wo_local,
-                    bsdf,
-                    beta,
-                    depth: class.nonspecular,
-                    footprint_distance: path_length,
-                };
-                return CameraPathResult { radiance: out, point: Some(point), wl };
-            }
+        let specular = bsdf.is_specular();
+        let cone = if specular { None } else { cone_at(rule, &bsdf, wo_local) };
+        let gather = !specular && depth == rule.depth;
+        if gather {
+            let ld = sample_direct_outside(scene, &si, &bsdf, wo_local, &wl, sampler, |w| in_cone(&cone, w));
+            out.add(class.scattered(false), beta * ld);
+            points.push(VisibilityPoint {
+                p: si.p,
+                ng: si.ng,
+                frame,
+                wo_local,
+                bsdf,
+                beta,
+                class,
+                depth,
+                footprint_distance,
+                cone,
+            });
+        } else if !specular {
             let ld = sample_direct(scene, &si, &bsdf, wo_local, &wl, sampler);
             out.add(class.scattered(false), beta * ld);
         } else {
             specular_events += 1;
-            if specular_events > max_specular {
+            if specular_events > rule.max_specular {
                 break;
             }
         }
@@ -147,13 +165,83 @@ pub fn trace_camera_path(
         if (bs.wi.z * wo_local.z > 0.0) != (wi.dot(si.ng) * wo.dot(si.ng) > 0.0) {
             break;
         }
-        beta *= bs.f * (bs.wi.z.abs() / bs.pdf);
+        let weight = bs.f * (bs.wi.z.abs() / bs.pdf);
+        let quasi_specular = !bs.specular && in_cone(&cone, bs.wi);
+        if gather && !quasi_specular {
+            // the sample left the cone: it estimates the direct light of C' (MIS) and ends the path
+            out.add(class.scattered(false), beta * direct_by_bsdf_sample(scene, &si, wi, bs.pdf, weight, &wl));
+            break;
+        }
+        if gather && points.len() >= MAX_POINTS_PER_PATH {
+            break;
+        }
+        beta *= weight;
         if !beta.is_finite() || beta.is_black() {
             break;
         }
         class = class.scattered(bs.specular);
-        prev = PrevVertex { p: si.p, pdf: if bs.specular { f32::INFINITY } else { bs.pdf } };
+        if !bs.specular && !quasi_specular {
+            depth += 1;
+        }
+        // inside a gather vertex's cone no light sampling covers the direction: emission found
+        // there counts fully; elsewhere it is MIS-weighted against the light sample
+        let pdf = if bs.specular || (gather && quasi_specular) { f32::INFINITY } else { bs.pdf };
+        prev = PrevVertex { p: si.p, pdf };
         ray = si.spawn_ray(wi);
     }
-    CameraPathResult { radiance: out, point: None, wl }
+    CameraPathResult { radiance: out, points, wl }
+}
+
+/// The gather depth a path of this pixel would choose for itself (DESIGN.md 3.3): traced by BSDF
+/// sampling alone (no light sampling), it returns argmin over depths j of kappa(x_j), the
+/// non-uniformity of the first non-specular vertex at depth j (ties: the smaller depth), over at
+/// most `max_depth` + 1 depths; None when the path meets no non-specular vertex.
+pub fn pilot_gather_depth(
+    scene: &Scene,
+    mut ray: Ray,
+    mut wl: SampledWavelengths,
+    sampler: &mut Sampler,
+    rule: &GatherRule,
+    max_depth: u32,
+) -> Option<u32> {
+    let mut best: Option<(f32, u32)> = None;
+    let mut depth = 0u32;
+    let mut last_depth_seen = None;
+    let mut specular_events = 0u32;
+    loop {
+        let si = scene.intersect(&ray)?;
+        let bsdf = scene.materials[si.material as usize].bsdf(&mut wl);
+        let frame = si.frame();
+        let wo_local = frame.to_local(-ray.dir);
+        let specular = bsdf.is_specular();
+        if !specular && last_depth_seen != Some(depth) {
+            last_depth_seen = Some(depth);
+            let kappa = scene.non_uniformity[si.material as usize].at(wo_local.z);
+            if best.is_none_or(|(k, _)| kappa < k) {
+                best = Some((kappa, depth));
+            }
+            if depth >= max_depth || kappa <= 1.0 {
+                break; // nothing deeper can be more uniform than a Lambertian vertex
+            }
+        }
+        if specular {
+            specular_events += 1;
+            if specular_events > rule.max_specular {
+                break;
+            }
+        }
+        let uc = sampler.get_1d();
+        let u = sampler.get_2d();
+        let Some(bs) = bsdf.sample_f(wo_local, uc, u, TransportMode::Radiance) else { break };
+        if bs.pdf <= 0.0 || bs.f.is_black() {
+            break;
+        }
+        let wi = frame.from_local(bs.wi);
+        let cone = if specular { None } else { cone_at(rule, &bsdf, wo_local) };
+        if !bs.specular && !in_cone(&cone, bs.wi) {
+            depth += 1;
+        }
+        ray = si.spawn_ray(wi);
+    }
+    best.map(|(_, d)| d)
 }

@@ -1,0 +1,64 @@
+//! The quasi-specular cone C of DESIGN.md section 3.4: directions within theta_c of a glossy
+//! BSDF's ideal mirror or refraction direction. Paths continue through C without gathering;
+//! direct light and photons are gathered over the complement C' only.
+
+use glam::Vec3;
+use quasar_materials::Bsdf;
+
+/// The cone(s) around the ideal scattering directions of one vertex, in its local frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct QuasiCone {
+    /// Unit cone axes: the mirror direction and, for dielectrics, the refraction direction.
+    axes: [Option<Vec3>; 2],
+    /// cos(theta_c).
+    cos_half_angle: f32,
+}
+
+impl QuasiCone {
+    /// The cone of a vertex with BSDF `bsdf` seen from `wo` (local), half-angle acos(`cos_half_angle`).
+    /// None for BSDFs without a lobe around an ideal direction (Lambertian, black): every event
+    /// there is an ordinary non-specular one.
+    pub fn at(bsdf: &Bsdf, wo: Vec3, cos_half_angle: f32) -> Option<Self> {
+        let (m, t) = bsdf.ideal_directions(wo);
+        if m.is_none() && t.is_none() {
+            return None;
+        }
+        Some(Self { axes: [m, t], cos_half_angle })
+    }
+
+    /// True when the local direction `w` lies inside the cone(s).
+    #[inline]
+    pub fn contains(&self, w: Vec3) -> bool {
+        self.axes.iter().flatten().any(|a| a.dot(w) > self.cos_half_angle * w.length())
+    }
+}
+
+/// Whether direction `w` (local) is excluded from an estimate restricted to C'.
+#[inline]
+pub fn in_cone(cone: &Option<QuasiCone>, w: Vec3) -> bool {
+    cone.as_ref().is_some_and(|c| c.contains(w))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use quasar_materials::Material;
+    use quasar_materials::spectrum::{SampledWavelengths, Spectrum};
+
+    #[test]
+    fn cone_contains_directions_near_the_mirror_and_refraction_directions() {
+        let mut wl = SampledWavelengths::sample_uniform(0.5);
+        let glass = Material::Dielectric { ior: quasar_materials::Ior::Constant(1.5), alpha: 0.05 }.bsdf(&mut wl);
+        let wo = Vec3::new(0.6, 0.0, 0.8);
+        let cone = QuasiCone::at(&glass, wo, 10f32.to_radians().cos()).unwrap();
+        assert!(cone.contains(Vec3::new(-0.6, 0.0, 0.8)));
+        assert!(cone.contains(Vec3::new(-0.62, 0.05, 0.78).normalize()));
+        assert!(!cone.contains(Vec3::new(0.0, 0.0, 1.0)));
+        // Snell: sin t = 0.6 / 1.5 = 0.4
+        let t = Vec3::new(-0.4, 0.0, -(1.0f32 - 0.16).sqrt());
+        assert!(cone.contains(t));
+        assert!(!cone.contains(Vec3::new(0.0, 0.0, -1.0)));
+        let diffuse = Material::Diffuse { reflectance: Spectrum::Constant(0.5), two_sided: true }.bsdf(&mut wl);
+        assert!(QuasiCone::at(&diffuse, wo, 0.9).is_none());
+    }
+}
