@@ -37,16 +37,16 @@ fn vismap_ov(w: u32, h: u32, iterations: u32, depth: u32) -> JobOverrides {
     }
 }
 
-/// relMSE of `vismap` against the `pt` reference after 16 and 256 iterations, and the relative
-/// difference of the image means after 256.
-fn convergence(path: &Path, reference: &[f32], w: u32, h: u32, depth: u32) -> (f64, f64, f64) {
+/// relMSE of `vismap` against the `pt` reference after 16 and `many` iterations, and the
+/// relative difference of the image means after `many`.
+fn convergence(path: &Path, reference: &[f32], w: u32, h: u32, depth: u32, many: u32) -> (f64, f64, f64) {
     let few = render_file(path, &vismap_ov(w, h, 16, depth)).image;
-    let many = render_file(path, &vismap_ov(w, h, 256, depth)).image;
+    let many = render_file(path, &vismap_ov(w, h, many, depth)).image;
     let y = many.channel("Y").unwrap();
     let e_few = rel_mse(few.channel("Y").unwrap(), reference);
     let e_many = rel_mse(y, reference);
     let bias = (mean(y) - mean(reference)) / mean(reference);
-    eprintln!("{} depth {depth}: relMSE 16 it {e_few:.5}, 256 it {e_many:.5}; mean {bias:+.4}", path.display());
+    eprintln!("{} depth {depth}: relMSE 16 it {e_few:.5}, many {e_many:.5}; mean {bias:+.4}", path.display());
     (e_few, e_many, bias)
 }
 
@@ -59,7 +59,7 @@ fn vismap_converges_to_pt_on_the_cornell_box() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell-box/cornell-box.toml");
     let reference = pt(&path, 32, 32, 8192);
     for depth in [0, 1] {
-        let (few, many, bias) = convergence(&path, &reference, 32, 32, depth);
+        let (few, many, bias) = convergence(&path, &reference, 32, 32, depth, 256);
         assert!(many < few * 0.5, "depth {depth}: relMSE {few} -> {many}");
         assert!(many < 0.01, "depth {depth}: relMSE {many}");
         assert!(bias.abs() < 0.02, "depth {depth}: mean differs by {bias}");
@@ -67,15 +67,16 @@ fn vismap_converges_to_pt_on_the_cornell_box() {
 }
 
 /// The glass plate: the narrow top lobe makes gathering at depth 0 noisy (the paper's point);
-/// depth 1 gathers on the substrate below. Both converge: relMSE against pt (16384 spp, itself
-/// ~3e-3 from another seed) falls with iterations, below 0.4 (depth 0) and 0.08 (depth 1) at 256
-/// iterations, and the means agree within 3%.
+/// depth 1 gathers on the plate's diffuse bottom face. Both converge: relMSE against pt (16384
+/// spp, itself ~3e-3 from another seed) falls with iterations, below 0.2 (depth 0) and 0.08
+/// (depth 1) at 1024 iterations, and the means agree within 3% (the radius bias along the
+/// plate's edges in this 40x30 image: -3.1% at 256 iterations, -1.4% at 1024 for depth 0).
 #[test]
 fn vismap_converges_to_pt_on_the_glass_plate() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/glass-plate/glass-plate.toml");
     let reference = pt(&path, 40, 30, 16384);
-    for (depth, bound) in [(0, 0.4), (1, 0.08)] {
-        let (few, many, bias) = convergence(&path, &reference, 40, 30, depth);
+    for (depth, bound) in [(0, 0.2), (1, 0.08)] {
+        let (few, many, bias) = convergence(&path, &reference, 40, 30, depth, 1024);
         assert!(many < few, "depth {depth}: relMSE {few} -> {many}");
         assert!(many < bound, "depth {depth}: relMSE {many}");
         assert!(bias.abs() < 0.03, "depth {depth}: mean differs by {bias}");

@@ -195,7 +195,9 @@ pub fn trace_camera_path(
 /// The gather depth a path of this pixel would choose for itself (DESIGN.md 3.3): traced by BSDF
 /// sampling alone (no light sampling), it returns argmin over depths j of kappa(x_j), the
 /// non-uniformity of the first non-specular vertex at depth j (ties: the smaller depth), over at
-/// most `max_depth` + 1 depths; None when the path meets no non-specular vertex.
+/// most `max_depth` + 1 depths; None when the path meets no non-specular vertex. With a cone, a
+/// vertex whose sample is quasi-specular is not a candidate (its lobe is traced through; the
+/// path's gathering there covers only C'), like specular vertices.
 pub fn pilot_gather_depth(
     scene: &Scene,
     mut ray: Ray,
@@ -209,12 +211,24 @@ pub fn pilot_gather_depth(
     let mut last_depth_seen = None;
     let mut specular_events = 0u32;
     loop {
-        let si = scene.intersect(&ray)?;
+        let Some(si) = scene.intersect(&ray) else { break };
         let bsdf = scene.materials[si.material as usize].bsdf(&mut wl);
         let frame = si.frame();
         let wo_local = frame.to_local(-ray.dir);
         let specular = bsdf.is_specular();
-        if !specular && last_depth_seen != Some(depth) {
+        if specular {
+            specular_events += 1;
+            if specular_events > rule.max_specular {
+                break;
+            }
+        }
+        let uc = sampler.get_1d();
+        let u = sampler.get_2d();
+        let sample =
+            bsdf.sample_f(wo_local, uc, u, TransportMode::Radiance).filter(|bs| bs.pdf > 0.0 && !bs.f.is_black());
+        let cone = if specular { None } else { cone_at(rule, &bsdf, wo_local) };
+        let quasi_specular = sample.is_some_and(|bs| !bs.specular && in_cone(&cone, bs.wi));
+        if !specular && !quasi_specular && last_depth_seen != Some(depth) {
             last_depth_seen = Some(depth);
             let kappa = scene.non_uniformity[si.material as usize].at(wo_local.z);
             if best.is_none_or(|(k, _)| kappa < k) {
@@ -224,24 +238,11 @@ pub fn pilot_gather_depth(
                 break; // nothing deeper can be more uniform than a Lambertian vertex
             }
         }
-        if specular {
-            specular_events += 1;
-            if specular_events > rule.max_specular {
-                break;
-            }
-        }
-        let uc = sampler.get_1d();
-        let u = sampler.get_2d();
-        let Some(bs) = bsdf.sample_f(wo_local, uc, u, TransportMode::Radiance) else { break };
-        if bs.pdf <= 0.0 || bs.f.is_black() {
-            break;
-        }
-        let wi = frame.from_local(bs.wi);
-        let cone = if specular { None } else { cone_at(rule, &bsdf, wo_local) };
-        if !bs.specular && !in_cone(&cone, bs.wi) {
+        let Some(bs) = sample else { break };
+        if !bs.specular && !quasi_specular {
             depth += 1;
         }
-        ray = si.spawn_ray(wi);
+        ray = si.spawn_ray(frame.from_local(bs.wi));
     }
     best.map(|(_, d)| d)
 }
