@@ -82,7 +82,7 @@ pub fn kappa(material: &Material, wo: Vec3) -> f32 {
         }
     }
     let albedo = albedo / KAPPA_SAMPLES as f64;
-    if !(albedo > 0.0) || max <= 0.0 {
+    if albedo.is_nan() || albedo <= 0.0 || max <= 0.0 {
         return 1.0; // scatters nothing: nothing to gather either way
     }
     let omega = if sampler.has_transmission() { 2.0 * std::f64::consts::PI } else { std::f64::consts::PI };

@@ -165,6 +165,7 @@ pub fn render(
 }
 
 /// The gather depth of every pixel for iteration `k`, and the pilot depths it learned.
+#[allow(clippy::too_many_arguments)]
 fn iteration_depths(
     scene: &Scene,
     camera: &Camera,
@@ -189,7 +190,7 @@ fn iteration_depths(
             (0..n).into_par_iter().map(|i| pilot(i, seed, k, max_depth)).collect()
         }
         GatherDepth::Adaptive { max_depth, paper: false } => {
-            let pilot_seed = mix64(seed ^ 0x7069_6c6f_74);
+            let pilot_seed = mix64(seed ^ 0x0070_696c_6f74);
             if k == 1 {
                 let first: Vec<Option<u32>> =
                     (0..n).into_par_iter().map(|i| pilot(i, pilot_seed, 0, max_depth)).collect();
@@ -212,7 +213,6 @@ fn iteration_depths(
     }
 }
 
-#[allow(clippy::too_many_lines)]
 fn render_in_pool(
     scene: &Scene,
     camera: &Camera,

@@ -210,8 +210,7 @@ pub fn pilot_gather_depth(
     let mut depth = 0u32;
     let mut last_depth_seen = None;
     let mut specular_events = 0u32;
-    loop {
-        let Some(si) = scene.intersect(&ray) else { break };
+    while let Some(si) = scene.intersect(&ray) {
         let bsdf = scene.materials[si.material as usize].bsdf(&mut wl);
         let frame = si.frame();
         let wo_local = frame.to_local(-ray.dir);
