@@ -3,8 +3,9 @@
 //! error of each method against a converged reference on the shipped scenes. Results go into
 //! BENCHMARKS.md.
 //!
-//! Run: `cargo bench --bench methods` (environment: QUASAR_BENCH_REF_SPP, QUASAR_BENCH_TIMES,
-//! QUASAR_BENCH_SCENES to change the reference quality, the time budgets and the scenes).
+//! Run: `cargo bench --bench methods` (environment: QUASAR_BENCH_REF_SPP and
+//! QUASAR_BENCH_REF_ITERATIONS for the references, QUASAR_BENCH_TIMES for the budgets,
+//! QUASAR_BENCH_THROUGHPUT=0 to skip the photon throughput part).
 
 use std::path::Path;
 use std::time::Instant;
@@ -53,53 +54,141 @@ fn photon_throughput(scene_path: &str) {
     }
 }
 
-fn equal_time(scene_path: &str, w: u32, h: u32, ref_spp: u32, times: &[f64]) {
+/// The methods compared: (label, method, fixed gather depth, the paper's adaptive variant).
+const METHODS: [(&str, &str, Option<u32>, bool); 7] = [
+    ("pt", "pt", None, false),
+    ("vismap depth 0", "vismap", Some(0), false),
+    ("vismap depth 1", "vismap", Some(1), false),
+    ("adaptive", "adaptive", None, false),
+    ("adaptive (paper variant)", "adaptive", None, true),
+    ("quasi", "quasi", None, false),
+    ("adaptive+quasi", "adaptive+quasi", None, false),
+];
+
+/// Renders with `method` for `budget` seconds and returns (iterations or spp, relMSE).
+#[allow(clippy::too_many_arguments)]
+fn timed_render(
+    desc: &quasar::importers::SceneDesc,
+    base: &JobOverrides,
+    method: &str,
+    depth: Option<u32>,
+    paper: bool,
+    budget: f64,
+    photons: u64,
+    r: &[f32],
+) -> (u32, f64) {
+    let bidir = method != "pt";
+    let ov = JobOverrides {
+        time_s: Some(budget),
+        seed: Some(1),
+        method: Some(method.into()),
+        bidir: BidirectionalOptions {
+            gather_depth: depth,
+            adaptive_paper: paper,
+            photons_per_iteration: bidir.then_some(photons),
+            ..Default::default()
+        },
+        ..base.clone()
+    };
+    let out = render_desc(desc, &ov, false).unwrap();
+    (out.result.spp, rel_mse(out.image.channel("Y").unwrap(), r))
+}
+
+/// Seconds to reach relMSE `target` on the curve (budget, error): log-log interpolation between
+/// the two budgets around it; None when the longest budget does not reach it.
+fn time_to_reach(curve: &[(f64, f64)], target: f64) -> Option<f64> {
+    if curve.first()?.1 <= target {
+        return Some(curve[0].0);
+    }
+    curve.windows(2).find(|w| w[1].1 <= target).map(|w| {
+        let ((t0, e0), (t1, e1)) = (w[0], w[1]);
+        let f = (target.ln() - e0.ln()) / (e1.ln() - e0.ln());
+        (t0.ln() + f * (t1.ln() - t0.ln())).exp()
+    })
+}
+
+/// Error-vs-time curves of every method against `reference` (a converged render), a markdown
+/// table of them and the time each needs to reach `target`.
+fn equal_time(scene_path: &str, w: u32, h: u32, reference: &[f32], times: &[f64], target: f64) {
     let desc = load_scene(Path::new(scene_path)).expect("scene loads");
     let base = JobOverrides { width: Some(w), height: Some(h), ..Default::default() };
-    let t = Instant::now();
-    let reference = render_desc(
-        &desc,
-        &JobOverrides { spp: Some(ref_spp), seed: Some(1000), method: Some("pt".into()), ..base.clone() },
-        false,
-    )
-    .unwrap();
-    let r = reference.image.channel("Y").unwrap().to_vec();
-    println!("{scene_path}: reference pt {w}x{h} {ref_spp} spp in {:.1} s", t.elapsed().as_secs_f64());
-    println!("| method | budget (s) | samples or iterations | relMSE |");
-    println!("|---|---|---|---|");
-    let methods: [(&str, Option<u32>); 3] = [("pt", None), ("vismap", Some(0)), ("vismap", Some(1))];
-    for &budget in times {
-        for (method, depth) in methods {
-            let ov = JobOverrides {
-                time_s: Some(budget),
-                seed: Some(1),
-                method: Some(method.into()),
-                bidir: BidirectionalOptions {
-                    gather_depth: depth,
-                    photons_per_iteration: depth.map(|_| (w * h * 4) as u64),
-                    ..Default::default()
-                },
-                ..base.clone()
-            };
-            let out = render_desc(&desc, &ov, false).unwrap();
-            let e = rel_mse(out.image.channel("Y").unwrap(), &r);
-            let name = depth.map_or(method.to_string(), |d| format!("{method} depth {d}"));
-            println!("| {name} | {budget} | {} | {e:.5} |", out.result.spp);
-        }
+    let photons = (w * h * 4) as u64;
+    println!("\n{scene_path} ({w}x{h}, {photons} photons per iteration): relMSE vs seconds");
+    print!("| method |");
+    for t in times {
+        print!(" {t} s |");
     }
+    println!(" time to relMSE {target} |");
+    println!("|---|{}---|", "---|".repeat(times.len()));
+    for (label, method, depth, paper) in METHODS {
+        let mut curve = Vec::new();
+        let mut cells = String::new();
+        for &budget in times {
+            let (n, e) = timed_render(&desc, &base, method, depth, paper, budget, photons, reference);
+            cells += &format!(" {e:.4} ({n}) |");
+            curve.push((budget, e));
+        }
+        let reach =
+            time_to_reach(&curve, target).map_or(format!("> {} s", times[times.len() - 1]), |t| format!("{t:.2} s"));
+        println!("| {label} |{cells} {reach} |");
+    }
+}
+
+/// A pt reference render (`spp` samples per pixel) of the luminance.
+fn pt_reference(scene_path: &str, w: u32, h: u32, spp: u32) -> Vec<f32> {
+    let desc = load_scene(Path::new(scene_path)).expect("scene loads");
+    let t = Instant::now();
+    let ov = JobOverrides {
+        width: Some(w),
+        height: Some(h),
+        spp: Some(spp),
+        seed: Some(1000),
+        method: Some("pt".into()),
+        ..Default::default()
+    };
+    let y = render_desc(&desc, &ov, false).unwrap().image.channel("Y").unwrap().to_vec();
+    println!("{scene_path}: reference pt {w}x{h} {spp} spp in {:.1} s", t.elapsed().as_secs_f64());
+    y
+}
+
+/// A long `quasi` reference (for scenes where pt does not converge in reasonable time).
+fn quasi_reference(scene_path: &str, w: u32, h: u32, iterations: u32, radius: f32) -> Vec<f32> {
+    let desc = load_scene(Path::new(scene_path)).expect("scene loads");
+    let t = Instant::now();
+    let ov = JobOverrides {
+        width: Some(w),
+        height: Some(h),
+        seed: Some(1000),
+        method: Some("quasi".into()),
+        bidir: BidirectionalOptions {
+            iterations: Some(iterations),
+            photons_per_iteration: Some((w * h * 16) as u64),
+            radius: Some(radius),
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let y = render_desc(&desc, &ov, false).unwrap().image.channel("Y").unwrap().to_vec();
+    println!(
+        "{scene_path}: reference quasi {w}x{h} {iterations} iterations, radius {radius} in {:.1} s",
+        t.elapsed().as_secs_f64()
+    );
+    y
 }
 
 fn main() {
     // `cargo bench` passes --bench; nothing else is accepted.
-    let scenes: String =
-        env_or("QUASAR_BENCH_SCENES", "scenes/glass-plate/glass-plate.toml,scenes/cornell-box/cornell-box.toml".into());
     let ref_spp = env_or("QUASAR_BENCH_REF_SPP", 16384u32);
-    let times: String = env_or("QUASAR_BENCH_TIMES", "1,2,4,8".into());
+    let times: String = env_or("QUASAR_BENCH_TIMES", "1,2,4,8,16".into());
     let times: Vec<f64> = times.split(',').filter_map(|t| t.parse().ok()).collect();
-    for s in scenes.split(',') {
-        photon_throughput(s);
+    let glass = "scenes/glass-plate/glass-plate.toml";
+    let lightguide = "scenes/lightguide/lightguide.toml";
+    if env_or("QUASAR_BENCH_THROUGHPUT", 1u32) == 1 {
+        photon_throughput(glass);
+        photon_throughput("scenes/cornell-box/cornell-box.toml");
     }
-    for s in scenes.split(',') {
-        equal_time(s, 64, 48, ref_spp, &times);
-    }
+    let r = pt_reference(glass, 64, 48, ref_spp);
+    equal_time(glass, 64, 48, &r, &times, 0.02);
+    let r = quasi_reference(lightguide, 64, 32, env_or("QUASAR_BENCH_REF_ITERATIONS", 2048u32), 0.0005);
+    equal_time(lightguide, 64, 32, &r, &times, 0.1);
 }

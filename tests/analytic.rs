@@ -74,46 +74,15 @@ scale = {le}
     assert!((mean_off - le).abs() < 1e-3 * le, "mean background radiance {mean_off}, expected {le}");
 }
 
-/// A closed white furnace: a diffuse sphere of albedo a seen from inside, with a constant emission
-/// Le on the inner surface. Radiance converges to Le / (1 - a) (geometric series of bounces).
+/// A closed white furnace (see [`common::furnace_scene`]): radiance Le / (1 - a) split into
+/// emission Le, direct a Le and indirect a^2 Le / (1 - a).
 #[test]
 fn closed_diffuse_furnace_converges_to_geometric_series() {
     let (a, le) = (0.5f64, 1.0f64);
-    let scene = write_scene(
-        &format!(
-            r#"
-[render]
-width = 8
-height = 8
-[camera]
-position = [0, 0, 0]
-target = [0, 0, -1]
-fov_deg = 60
-[materials.wall]
-type = "diffuse"
-reflectance = {{ constant = {a} }}
-[[shape]]
-type = "sphere"
-center = [0, 0, 0]
-radius = 1.0
-material = "wall"
-flip_normals = true
-emission = {{ spectrum = {{ constant = 1.0 }}, scale = {le} }}
-"#
-        ),
-        &[],
-    );
-    let out = render_file(&scene.path, &JobOverrides { spp: Some(256), seed: Some(3), ..Default::default() });
-    let y = common::mean(out.image.channel("Y").unwrap());
-    let expected = le / (1.0 - a);
-    assert!((y - expected).abs() / expected < 0.01, "furnace radiance {y}, expected {expected}");
-    // layers: emission = Le, direct = a Le, indirect = a^2 Le / (1 - a)
-    let e = common::mean(&common::layer_luminance(&out.image, "emission"));
-    let d = common::mean(&common::layer_luminance(&out.image, "direct"));
-    let i = common::mean(&common::layer_luminance(&out.image, "indirect"));
-    assert!((e - le).abs() < 0.01, "emission {e}");
-    assert!((d - a * le).abs() / (a * le) < 0.02, "direct {d}");
-    assert!((i - a * a * le / (1.0 - a)).abs() / (a * a * le / (1.0 - a)) < 0.03, "indirect {i}");
+    let scene = common::furnace_scene(a, le, 8);
+    let ov = JobOverrides { spp: Some(256), seed: Some(3), method: Some("pt".into()), ..Default::default() };
+    let out = render_file(&scene.path, &ov);
+    common::check_furnace(&out.image, a, le, "pt");
 }
 
 /// Renders a large diffuse floor (albedo a, facing up) seen from straight above by a narrow

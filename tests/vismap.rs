@@ -98,60 +98,16 @@ fn vismap_is_deterministic_across_thread_counts() {
     }
 }
 
-/// The closed furnace of the analytic tests: a diffuse sphere of albedo a seen from inside,
-/// emitting Le from its inner surface, has radiance Le / (1 - a) everywhere; `vismap` splits it
-/// into emission Le, direct a Le and photon-gathered indirect a^2 Le / (1 - a).
+/// The closed furnace of the analytic tests: `vismap` splits Le / (1 - a) into emission Le,
+/// direct a Le and photon-gathered indirect a^2 Le / (1 - a), at gather depths 0 and 1.
 #[test]
 fn vismap_furnace_converges_to_the_geometric_series() {
     let (a, le) = (0.5f64, 1.0f64);
-    let scene = write_scene(
-        &format!(
-            r#"
-[render]
-width = 16
-height = 16
-[camera]
-position = [0, 0, 0]
-target = [0, 0, -1]
-fov_deg = 60
-[materials.wall]
-type = "diffuse"
-reflectance = {{ constant = {a} }}
-[[shape]]
-type = "sphere"
-center = [0, 0, 0]
-radius = 1.0
-material = "wall"
-flip_normals = true
-emission = {{ spectrum = {{ constant = 1.0 }}, scale = {le} }}
-"#
-        ),
-        &[],
-    );
+    let scene = common::furnace_scene(a, le, 16);
     for depth in [0, 1] {
-        let ov = JobOverrides {
-            seed: Some(4),
-            method: Some("vismap".into()),
-            bidir: BidirectionalOptions {
-                iterations: Some(64),
-                photons_per_iteration: Some(20_000),
-                gather_depth: Some(depth),
-                ..Default::default()
-            },
-            ..Default::default()
-        };
+        let ov = JobOverrides { seed: Some(4), ..vismap_ov(16, 16, 64, depth) };
         let img = render_file(&scene.path, &ov).image;
-        let y = mean(img.channel("Y").unwrap());
-        let e = mean(&layer_luminance(&img, "emission"));
-        let d = mean(&layer_luminance(&img, "direct"));
-        let i = mean(&layer_luminance(&img, "indirect"));
-        eprintln!("furnace depth {depth}: Y {y:.5} emission {e:.5} direct {d:.5} indirect {i:.5}");
-        let expected = le / (1.0 - a);
-        assert!((y - expected).abs() / expected < 0.01, "depth {depth}: furnace radiance {y}, expected {expected}");
-        assert!((e - le).abs() < 0.01 * le, "emission {e}");
-        assert!((d - a * le).abs() < 0.02 * a * le, "direct {d}");
-        let ind = a * a * le / (1.0 - a);
-        assert!((i - ind).abs() < 0.03 * ind, "indirect {i}");
+        common::check_furnace(&img, a, le, &format!("vismap depth {depth}"));
     }
 }
 

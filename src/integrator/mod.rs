@@ -4,6 +4,7 @@
 pub mod direct;
 pub mod layers;
 pub mod pt;
+pub mod scatter;
 pub mod vismap;
 
 pub use layers::{LayeredRadiance, PathClass};

@@ -7,6 +7,7 @@ use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
 
 use super::direct::{PrevVertex, emitted_at_hit, escaped_radiance, sample_direct};
 use super::layers::{LayeredRadiance, PathClass};
+use super::scatter::scatter;
 use crate::geometry::Ray;
 use crate::sampling::Sampler;
 use crate::scene::Scene;
@@ -75,19 +76,9 @@ pub fn radiance(
             let ld = sample_direct(scene, &si, &bsdf, wo_local, wl, sampler);
             out.add(class.scattered(false), beta * ld);
         }
-        let uc = sampler.get_1d();
-        let u = sampler.get_2d();
-        let Some(bs) = bsdf.sample_f(wo_local, uc, u, TransportMode::Radiance) else { break };
-        if bs.pdf <= 0.0 || bs.f.is_black() {
-            break;
-        }
-        let wi = frame.from_local(bs.wi);
-        // Reject directions on the wrong side of the geometric surface (shading-normal leaks).
-        let reflect = bs.wi.z * wo_local.z > 0.0;
-        if reflect != (wi.dot(si.ng) * wo.dot(si.ng) > 0.0) {
-            break;
-        }
-        beta *= bs.f * (bs.wi.z.abs() / bs.pdf);
+        let Some(sc) = scatter(&bsdf, &si, &frame, wo, wo_local, TransportMode::Radiance, sampler) else { break };
+        let (bs, wi) = (sc.bs, sc.wi);
+        beta *= sc.weight();
         if !beta.is_finite() {
             break;
         }

@@ -50,3 +50,49 @@ pub fn layer_luminance(img: &quasar::output::ExrImage, name: &str) -> Vec<f32> {
     let (r, g, b) = (c("R"), c("G"), c("B"));
     (0..r.len()).map(|i| quasar::materials::spectrum::color::srgb_luminance([r[i], g[i], b[i]])).collect()
 }
+
+/// A closed white furnace: a diffuse sphere of albedo `a` seen from its centre, emitting `le`
+/// from its inner surface, in a `size` x `size` image. Its radiance is Le / (1 - a) everywhere
+/// (the geometric series of bounces).
+pub fn furnace_scene(a: f64, le: f64, size: u32) -> TempScene {
+    write_scene(
+        &format!(
+            r#"
+[render]
+width = {size}
+height = {size}
+[camera]
+position = [0, 0, 0]
+target = [0, 0, -1]
+fov_deg = 60
+[materials.wall]
+type = "diffuse"
+reflectance = {{ constant = {a} }}
+[[shape]]
+type = "sphere"
+center = [0, 0, 0]
+radius = 1.0
+material = "wall"
+flip_normals = true
+emission = {{ spectrum = {{ constant = 1.0 }}, scale = {le} }}
+"#
+        ),
+        &[],
+    )
+}
+
+/// Checks a furnace render: Y = Le / (1 - a) within 1%, and the layers emission = Le (1%),
+/// direct = a Le (2%) and indirect = a^2 Le / (1 - a) (3%).
+pub fn check_furnace(img: &quasar::output::ExrImage, a: f64, le: f64, label: &str) {
+    let y = mean(img.channel("Y").unwrap());
+    let e = mean(&layer_luminance(img, "emission"));
+    let d = mean(&layer_luminance(img, "direct"));
+    let i = mean(&layer_luminance(img, "indirect"));
+    eprintln!("furnace {label}: Y {y:.5} emission {e:.5} direct {d:.5} indirect {i:.5}");
+    let expected = le / (1.0 - a);
+    assert!((y - expected).abs() / expected < 0.01, "{label}: furnace radiance {y}, expected {expected}");
+    assert!((e - le).abs() < 0.01 * le, "{label}: emission {e}");
+    assert!((d - a * le).abs() < 0.02 * a * le, "{label}: direct {d}");
+    let ind = a * a * le / (1.0 - a);
+    assert!((i - ind).abs() < 0.03 * ind, "{label}: indirect {i}");
+}

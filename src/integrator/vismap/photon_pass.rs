@@ -12,6 +12,7 @@ use super::quasi_cone::{QuasiCone, in_cone};
 use super::visibility_point::VisibilityPoint;
 use crate::geometry::Ray;
 use crate::integrator::pt::russian_roulette;
+use crate::integrator::scatter::scatter;
 use crate::sampling::Sampler;
 use crate::scene::Scene;
 
@@ -186,16 +187,10 @@ fn trace_photon(
         }
         let frame = si.frame();
         let wo_local = frame.to_local(wi_photon);
-        let Some(bs) = bsdf.sample_f(wo_local, sampler.get_1d(), sampler.get_2d(), TransportMode::Importance) else {
+        let Some(sc) = scatter(&bsdf, &si, &frame, wi_photon, wo_local, TransportMode::Importance, sampler) else {
             break;
         };
-        if bs.pdf <= 0.0 || bs.f.is_black() {
-            break;
-        }
-        let wi = frame.from_local(bs.wi);
-        if (bs.wi.z * wo_local.z > 0.0) != (wi.dot(si.ng) * wi_photon.dot(si.ng) > 0.0) {
-            break;
-        }
+        let (bs, wi) = (sc.bs, sc.wi);
         // adjoint BSDF with shading normals (Veach 1997, eq. 5.19): the importance throughput
         // f |wi . ns| / pdf times |wo . ns| |wi . ng| / (|wo . ng| |wi . ns|)
         let cos_o_g = wi_photon.dot(si.ng).abs();

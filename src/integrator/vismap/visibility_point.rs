@@ -10,6 +10,7 @@ use super::quasi_cone::{QuasiCone, in_cone};
 use crate::geometry::Ray;
 use crate::integrator::direct::{PrevVertex, emitted_at_hit, escaped_radiance, sample_direct, sample_direct_outside};
 use crate::integrator::layers::{LayeredRadiance, PathClass};
+use crate::integrator::scatter::scatter;
 use crate::sampling::Sampler;
 use crate::scene::{Scene, SurfaceInteraction};
 
@@ -155,17 +156,8 @@ pub fn trace_camera_path(
                 break;
             }
         }
-        let uc = sampler.get_1d();
-        let u = sampler.get_2d();
-        let Some(bs) = bsdf.sample_f(wo_local, uc, u, TransportMode::Radiance) else { break };
-        if bs.pdf <= 0.0 || bs.f.is_black() {
-            break;
-        }
-        let wi = frame.from_local(bs.wi);
-        if (bs.wi.z * wo_local.z > 0.0) != (wi.dot(si.ng) * wo.dot(si.ng) > 0.0) {
-            break;
-        }
-        let weight = bs.f * (bs.wi.z.abs() / bs.pdf);
+        let Some(sc) = scatter(&bsdf, &si, &frame, wo, wo_local, TransportMode::Radiance, sampler) else { break };
+        let (bs, wi, weight) = (sc.bs, sc.wi, sc.weight());
         let quasi_specular = !bs.specular && in_cone(&cone, bs.wi);
         if gather && !quasi_specular {
             // the sample left the cone: it estimates the direct light of C' (MIS) and ends the path
@@ -221,12 +213,9 @@ pub fn pilot_gather_depth(
                 break;
             }
         }
-        let uc = sampler.get_1d();
-        let u = sampler.get_2d();
-        let sample =
-            bsdf.sample_f(wo_local, uc, u, TransportMode::Radiance).filter(|bs| bs.pdf > 0.0 && !bs.f.is_black());
+        let sample = scatter(&bsdf, &si, &frame, -ray.dir, wo_local, TransportMode::Radiance, sampler);
         let cone = if specular { None } else { cone_at(rule, &bsdf, wo_local) };
-        let quasi_specular = sample.is_some_and(|bs| !bs.specular && in_cone(&cone, bs.wi));
+        let quasi_specular = sample.is_some_and(|sc| !sc.bs.specular && in_cone(&cone, sc.bs.wi));
         if !specular && !quasi_specular && last_depth_seen != Some(depth) {
             last_depth_seen = Some(depth);
             let kappa = scene.non_uniformity[si.material as usize].at(wo_local.z);
@@ -237,11 +226,11 @@ pub fn pilot_gather_depth(
                 break; // nothing deeper can be more uniform than a Lambertian vertex
             }
         }
-        let Some(bs) = sample else { break };
-        if !bs.specular && !quasi_specular {
+        let Some(sc) = sample else { break };
+        if !sc.bs.specular && !quasi_specular {
             depth += 1;
         }
-        ray = si.spawn_ray(frame.from_local(bs.wi));
+        ray = si.spawn_ray(sc.wi);
     }
     best.map(|(_, d)| d)
 }
