@@ -27,6 +27,12 @@ const MAX_BOUNCES: u32 = 1000;
 /// (a plate on a table) or on the other wall of a corner from lighting the other. The excluded
 /// set shrinks to the surfaces' creases as the radius shrinks, so the estimate stays consistent.
 const MIN_NORMAL_COS: f32 = 0.5;
+/// Largest distance of a photon hit from the visibility point's tangent plane, as a fraction of
+/// the gather radius: the gather region is a flattened disk, not a ball (Jensen 2001, 7.2), so a
+/// photon on a nearby parallel surface (the inside of a thin wall, an object within an object)
+/// is not counted. A sphere of radius R deviates from its tangent plane by s^2 / (2R) at distance
+/// s, so nothing of a curved surface is excluded while r < R / 2.
+const MAX_PLANE_DISTANCE: f32 = 0.25;
 
 /// Gather radii of one visibility point in the current iteration.
 #[derive(Clone, Copy, Debug)]
@@ -154,7 +160,16 @@ fn trace_photon(
             for &vi in grid.candidates(si.p) {
                 let vp = &points[vi as usize];
                 let r = if caustic { radii[vi as usize].caustic } else { radii[vi as usize].indirect };
-                if (si.p - vp.p).length_squared() > r * r || vp.ng.dot(si.ng) < MIN_NORMAL_COS {
+                let d = si.p - vp.p;
+                if d.length_squared() > r * r
+                    || vp.ng.dot(si.ng) < MIN_NORMAL_COS
+                    || d.dot(vp.ng).abs() > MAX_PLANE_DISTANCE * r
+                {
+                    continue;
+                }
+                // a reflector only sees photons that arrived on its viewer's side of the surface
+                // the photon hit (no light through a wall from inside a closed object)
+                if !vp.bsdf.has_transmission() && (wi_photon.dot(si.ng) > 0.0) != vp.viewer_above {
                     continue;
                 }
                 // the photon density measures irradiance on the geometric surface; the BSDF

@@ -41,6 +41,8 @@ pub struct VisibilityPoint {
     pub footprint_distance: f32,
     /// Photons arriving inside this cone are not gathered here (quasi-specular methods).
     pub cone: Option<QuasiCone>,
+    /// The viewer is on the side `ng` points to.
+    pub viewer_above: bool,
 }
 
 /// How a camera path chooses its gather vertices.
@@ -146,6 +148,7 @@ pub fn trace_camera_path(
                 depth,
                 footprint_distance,
                 cone,
+                viewer_above: wo.dot(si.ng) > 0.0,
             });
         } else if !specular {
             let ld = sample_direct(scene, &si, &bsdf, wo_local, &wl, sampler);
