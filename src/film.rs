@@ -18,6 +18,8 @@ pub const BEAUTY_LAYERS: usize = 3;
 pub struct PixelSum {
     /// [layer][X, Y, Z].
     pub xyz: [[f64; 3]; N_LAYERS],
+    /// Sum of the squared beauty luminance of the samples (for the per-pixel noise estimate).
+    pub y_sq: f64,
     /// Samples accumulated (including rejected non-finite ones, which count as zero).
     pub samples: u64,
     /// Samples whose value was not finite and was dropped.
@@ -35,11 +37,25 @@ impl PixelSum {
             self.rejected += 1;
             return;
         }
+        let y: f64 = layers[..BEAUTY_LAYERS].iter().map(|v| v[1] as f64).sum();
+        self.y_sq += y * y;
         for (acc, v) in self.xyz.iter_mut().zip(layers) {
             for k in 0..3 {
                 acc[k] += v[k] as f64;
             }
         }
+    }
+
+    /// Standard error of the pixel's mean beauty luminance, sqrt(s^2 / n) with the unbiased sample
+    /// variance s^2 of the per-sample luminance; 0 with fewer than two samples.
+    pub fn stderr_y(&self) -> f64 {
+        if self.samples < 2 {
+            return 0.0;
+        }
+        let n = self.samples as f64;
+        let sum: f64 = self.xyz[..BEAUTY_LAYERS].iter().map(|l| l[1]).sum();
+        let var = ((self.y_sq - sum * sum / n) / (n - 1.0)).max(0.0);
+        (var / n).sqrt()
     }
 
     /// Adds another sum (same pixel, disjoint samples).
@@ -49,6 +65,7 @@ impl PixelSum {
                 self.xyz[l][k] += o.xyz[l][k];
             }
         }
+        self.y_sq += o.y_sq;
         self.samples += o.samples;
         self.rejected += o.rejected;
     }
@@ -131,11 +148,60 @@ impl Film {
             }
         }
         out.push(Channel { name: "spp.Y".into(), values: self.pixels.iter().map(|p| p.samples as f32).collect() });
+        out.push(Channel {
+            name: "stderr.Y".into(),
+            values: self.pixels.iter().map(|p| p.stderr_y() as f32).collect(),
+        });
         out
+    }
+
+    /// The image's estimated RMS relative error: sqrt of the mean over pixels of
+    /// stderr^2 / (Y^2 + 1e-3), the expected relMSE against the converged image (the relMSE of
+    /// `quasar compare`) if the pixel estimates are unbiased. Infinite before every pixel has two
+    /// samples.
+    pub fn estimated_rel_error(&self) -> f64 {
+        if self.pixels.iter().any(|p| p.samples < 2) {
+            return f64::INFINITY;
+        }
+        let sum: f64 = self
+            .pixels
+            .iter()
+            .map(|p| {
+                let y: f64 = p.xyz[..BEAUTY_LAYERS].iter().map(|l| l[1]).sum::<f64>() / p.samples as f64;
+                let e = p.stderr_y();
+                e * e / (y * y + crate::compare::REL_EPS)
+            })
+            .sum();
+        (sum / self.pixels.len().max(1) as f64).sqrt()
     }
 
     /// Total number of rejected (non-finite) samples.
     pub fn rejected_samples(&self) -> u64 {
         self.pixels.iter().map(|p| p.rejected).sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
+
+    #[test]
+    fn standard_error_of_known_samples() {
+        let wl = SampledWavelengths::from_parts([550.0; 4], [1.0; 4]);
+        let mut p = PixelSum::default();
+        let unit = wl.luminance(SampledSpectrum::one());
+        for v in [1.0f32, 3.0] {
+            let l = LayeredRadiance { direct: SampledSpectrum::one() * v, ..Default::default() };
+            p.add(&l, &wl);
+        }
+        // samples y = unit, 3 unit: variance 2 unit^2, stderr sqrt(2 / 2) unit
+        assert!((p.stderr_y() - unit as f64).abs() < 1e-4 * unit as f64);
+        let mut film = Film::new(1, 1);
+        assert!(film.estimated_rel_error().is_infinite());
+        film.pixels[0] = p;
+        let y = 2.0 * unit as f64;
+        let expected = (unit as f64 * unit as f64 / (y * y + crate::compare::REL_EPS)).sqrt();
+        assert!((film.estimated_rel_error() - expected).abs() < 1e-6);
     }
 }

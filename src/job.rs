@@ -27,6 +27,9 @@ pub struct JobOverrides {
     pub spp: Option<u32>,
     /// Time budget in seconds.
     pub time_s: Option<f64>,
+    /// Stop at this estimated RMS relative error of the image (or at the time budget or sample
+    /// cap, whichever comes first).
+    pub target_error: Option<f64>,
     /// Seed.
     pub seed: Option<u64>,
     /// Threads.
@@ -67,6 +70,13 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     {
         bail!("time budget must be a positive number of seconds, got {t}");
     }
+    if let Some(e) = ov.target_error
+        && !(e > 0.0 && e.is_finite())
+    {
+        bail!("target error must be a positive number, got {e}");
+    }
+    // with a time budget or an error target, the sample (iteration) count is only a cap
+    let open_ended = time_s.is_some() || ov.target_error.is_some();
     let seed = ov.seed.unwrap_or(r.seed);
     let max_depth = ov.max_depth.or(r.max_depth);
     let method = Method::from_name(ov.method.as_deref().unwrap_or(&r.method))?;
@@ -75,8 +85,11 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     let camera = Camera::new(&desc.camera, width, height).with_context(|| desc.source.display().to_string())?;
     let resolved = method.resolve(&scene);
     let bidir = if resolved.is_bidirectional() {
-        // with a time budget, the iteration count is only a cap
-        Some(bidirectional_settings(resolved, &ov.bidir, if time_s.is_some() { u32::MAX / 2 } else { spp })?)
+        Some(bidirectional_settings(
+            resolved,
+            &ov.bidir,
+            if open_ended { ov.spp.unwrap_or(u32::MAX / 2) } else { spp },
+        )?)
     } else if ov.bidir.any() {
         bail!(
             "the bidirectional options (--iterations, --photons-per-iteration, --gather-depth, ...) do not apply to {}",
@@ -86,9 +99,9 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         None
     };
     let opts = RenderOptions {
-        // with a time budget, spp is only a cap
-        spp: if time_s.is_some() { ov.spp.unwrap_or(u32::MAX / 2) } else { spp },
+        spp: if open_ended { ov.spp.unwrap_or(u32::MAX / 2) } else { spp },
         time_limit: time_s,
+        target_error: ov.target_error,
         seed,
         threads: ov.threads,
         pt: PtSettings { max_depth, ..PtSettings::default() },
@@ -98,7 +111,7 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     let mut metadata = Vec::new();
     let result = match bidir {
         Some(v) => {
-            let run = VismapRun { seed, time_limit: time_s, progress };
+            let run = VismapRun { seed, time_limit: time_s, target_error: ov.target_error, progress };
             let (result, stats) = vismap::render(&scene, &camera, &v, &run, threads);
             let depth = match v.depth {
                 GatherDepth::Fixed(d) => d.to_string(),
@@ -145,6 +158,8 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         ("wavelengths".into(), "hero, 4 per path, 360-830 nm, visible-importance pdf".into()),
         ("units".into(), "XYZ normalised so a flat spectral radiance of 1 gives Y = 1".into()),
         ("rejected_samples".into(), result.film.rejected_samples().to_string()),
+        ("target_error".into(), ov.target_error.map_or("none".into(), |e| e.to_string())),
+        ("estimated_rel_error".into(), format!("{:.6}", result.film.estimated_rel_error())),
         ("threads".into(), result.threads.to_string()),
         ("render_time_s".into(), format!("{:.3}", result.seconds)),
     ];

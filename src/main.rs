@@ -34,6 +34,10 @@ enum Command {
         /// Render for this many seconds instead of a fixed sample count.
         #[arg(long)]
         time: Option<f64>,
+        /// Stop when the estimated RMS relative error of the image (sqrt of the mean over pixels
+        /// of stderr^2 / (Y^2 + 1e-3)) is at most this, or at --time, whichever comes first.
+        #[arg(long)]
+        target_error: Option<f64>,
         /// Image width in pixels.
         #[arg(long)]
         width: Option<u32>,
@@ -110,6 +114,7 @@ fn run() -> anyhow::Result<()> {
             method,
             spp,
             time,
+            target_error,
             width,
             height,
             threads,
@@ -132,6 +137,7 @@ fn run() -> anyhow::Result<()> {
                 height,
                 spp,
                 time_s: time,
+                target_error,
                 seed,
                 threads,
                 max_depth,

@@ -22,6 +22,9 @@ pub struct RenderOptions {
     pub spp: u32,
     /// Stop starting new passes after this many seconds (at least one pass always runs).
     pub time_limit: Option<f64>,
+    /// Stop once the image's estimated RMS relative error ([`Film::estimated_rel_error`]) is at
+    /// most this.
+    pub target_error: Option<f64>,
     /// Seed of all random streams.
     pub seed: u64,
     /// Worker threads (None = all cores).
@@ -34,7 +37,15 @@ pub struct RenderOptions {
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        Self { spp: 16, time_limit: None, seed: 0, threads: None, pt: PtSettings::default(), progress: false }
+        Self {
+            spp: 16,
+            time_limit: None,
+            target_error: None,
+            seed: 0,
+            threads: None,
+            pt: PtSettings::default(),
+            progress: false,
+        }
     }
 }
 
@@ -95,6 +106,9 @@ fn render_in_pool(scene: &Scene, camera: &Camera, opts: &RenderOptions, threads:
             }
         });
         done += n;
+        if opts.target_error.is_some_and(|e| film.estimated_rel_error() <= e) {
+            break;
+        }
         let elapsed = start.elapsed().as_secs_f64();
         if let Some(limit) = opts.time_limit {
             let per_spp = elapsed / done as f64;

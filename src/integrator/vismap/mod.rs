@@ -147,6 +147,9 @@ pub struct VismapRun {
     pub seed: u64,
     /// Stop after this many seconds (at least one iteration runs).
     pub time_limit: Option<f64>,
+    /// Stop once the image's estimated RMS relative error is at most this (per-iteration
+    /// variance; see [`Film::estimated_rel_error`]).
+    pub target_error: Option<f64>,
     /// Show a progress bar.
     pub progress: bool,
 }
@@ -299,6 +302,9 @@ fn render_in_pool(
         done = k;
         if let Some(b) = &bar {
             b.inc(1);
+        }
+        if run.target_error.is_some_and(|e| film.estimated_rel_error() <= e) {
+            break;
         }
         if let Some(limit) = run.time_limit {
             let elapsed = start.elapsed().as_secs_f64();
