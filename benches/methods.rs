@@ -10,7 +10,7 @@
 use std::path::Path;
 use std::time::Instant;
 
-use quasar::compare::rel_mse;
+use quasar::convergence;
 use quasar::integrator::vismap::{self, GatherDepth, VismapRun, VismapSettings};
 use quasar::job::{JobOverrides, load_scene, render_desc};
 use quasar::method::BidirectionalOptions;
@@ -54,84 +54,25 @@ fn photon_throughput(scene_path: &str) {
     }
 }
 
-/// The methods compared: (label, method, fixed gather depth, the paper's adaptive variant).
-const METHODS: [(&str, &str, Option<u32>, bool); 7] = [
-    ("pt", "pt", None, false),
-    ("vismap depth 0", "vismap", Some(0), false),
-    ("vismap depth 1", "vismap", Some(1), false),
-    ("adaptive", "adaptive", None, false),
-    ("adaptive (paper variant)", "adaptive", None, true),
-    ("quasi", "quasi", None, false),
-    ("adaptive+quasi", "adaptive+quasi", None, false),
-];
+/// The methods compared (see `quasar bench convergence --methods`).
+const METHODS: &str = "pt,vismap:0,vismap:1,adaptive,adaptive:paper,quasi,adaptive+quasi";
 
-/// Renders with `method` for `budget` seconds and returns (iterations or spp, relMSE).
-#[allow(clippy::too_many_arguments)]
-fn timed_render(
-    desc: &quasar::importers::SceneDesc,
-    base: &JobOverrides,
-    method: &str,
-    depth: Option<u32>,
-    paper: bool,
-    budget: f64,
-    photons: u64,
-    r: &[f32],
-) -> (u32, f64) {
-    let bidir = method != "pt";
-    let ov = JobOverrides {
-        time_s: Some(budget),
-        seed: Some(1),
-        method: Some(method.into()),
-        bidir: BidirectionalOptions {
-            gather_depth: depth,
-            adaptive_paper: paper,
-            photons_per_iteration: bidir.then_some(photons),
-            ..Default::default()
-        },
-        ..base.clone()
-    };
-    let out = render_desc(desc, &ov, false).unwrap();
-    (out.result.spp, rel_mse(out.image.channel("Y").unwrap(), r))
-}
-
-/// Seconds to reach relMSE `target` on the curve (budget, error): log-log interpolation between
-/// the two budgets around it; None when the longest budget does not reach it.
-fn time_to_reach(curve: &[(f64, f64)], target: f64) -> Option<f64> {
-    if curve.first()?.1 <= target {
-        return Some(curve[0].0);
-    }
-    curve.windows(2).find(|w| w[1].1 <= target).map(|w| {
-        let ((t0, e0), (t1, e1)) = (w[0], w[1]);
-        let f = (target.ln() - e0.ln()) / (e1.ln() - e0.ln());
-        (t0.ln() + f * (t1.ln() - t0.ln())).exp()
-    })
-}
-
-/// Error-vs-time curves of every method against `reference` (a converged render), a markdown
-/// table of them and the time each needs to reach `target`.
+/// Error-vs-time curves of every method against `reference` (a converged render), printed as a
+/// markdown table with the time each needs to reach `target`.
 fn equal_time(scene_path: &str, w: u32, h: u32, reference: &[f32], times: &[f64], target: f64) {
     let desc = load_scene(Path::new(scene_path)).expect("scene loads");
-    let base = JobOverrides { width: Some(w), height: Some(h), ..Default::default() };
     let photons = (w * h * 4) as u64;
+    let base = JobOverrides {
+        width: Some(w),
+        height: Some(h),
+        seed: Some(1),
+        bidir: BidirectionalOptions { photons_per_iteration: Some(photons), ..Default::default() },
+        ..Default::default()
+    };
+    let methods = convergence::parse_methods(METHODS).unwrap();
+    let points = convergence::run(&desc, &base, &methods, times, reference, |_| {}).unwrap();
     println!("\n{scene_path} ({w}x{h}, {photons} photons per iteration): relMSE vs seconds");
-    print!("| method |");
-    for t in times {
-        print!(" {t} s |");
-    }
-    println!(" time to relMSE {target} |");
-    println!("|---|{}---|", "---|".repeat(times.len()));
-    for (label, method, depth, paper) in METHODS {
-        let mut curve = Vec::new();
-        let mut cells = String::new();
-        for &budget in times {
-            let (n, e) = timed_render(&desc, &base, method, depth, paper, budget, photons, reference);
-            cells += &format!(" {e:.4} ({n}) |");
-            curve.push((budget, e));
-        }
-        let reach =
-            time_to_reach(&curve, target).map_or(format!("> {} s", times[times.len() - 1]), |t| format!("{t:.2} s"));
-        println!("| {label} |{cells} {reach} |");
-    }
+    print!("{}", convergence::markdown_table(&points, target));
 }
 
 /// A pt reference render (`spp` samples per pixel) of the luminance.

@@ -9,6 +9,7 @@
 pub mod analysis;
 pub mod camera;
 pub mod compare;
+pub mod convergence;
 pub mod film;
 pub mod geometry;
 pub mod integrator;

@@ -98,11 +98,129 @@ enum Command {
         #[arg(long)]
         diff: Option<PathBuf>,
     },
+    /// Benchmarks.
+    Bench {
+        #[command(subcommand)]
+        what: BenchCommand,
+    },
     /// Print what a scene contains and which method `auto` would use.
     Info {
         /// Scene file.
         scene: PathBuf,
     },
+}
+
+#[derive(Subcommand)]
+enum BenchCommand {
+    /// Error-vs-time curves: every method renders SCENE for a series of time budgets and is
+    /// compared with a converged reference (relMSE of the luminance).
+    Convergence {
+        /// Scene file.
+        scene: PathBuf,
+        /// Methods: pt, vismap[:DEPTH], adaptive[:paper], quasi[:CONE], adaptive+quasi[:CONE].
+        #[arg(long, default_value = "pt,vismap,vismap:1,adaptive,quasi,adaptive+quasi")]
+        methods: String,
+        /// The longest time budget in seconds.
+        #[arg(long, default_value_t = 8.0)]
+        time: f64,
+        /// Number of budgets: time / 2^(steps-1), ..., time / 2, time.
+        #[arg(long, default_value_t = 4)]
+        steps: u32,
+        /// Reference EXR (its size is the render size); default: a pt render of --reference-spp.
+        #[arg(long)]
+        reference: Option<PathBuf>,
+        /// Samples per pixel of the pt reference made when no --reference is given.
+        #[arg(long, default_value_t = 16384)]
+        reference_spp: u32,
+        /// Image width (without --reference).
+        #[arg(long, default_value_t = 64)]
+        width: u32,
+        /// Image height (without --reference).
+        #[arg(long, default_value_t = 48)]
+        height: u32,
+        /// Photons per iteration of the bidirectional methods (default: 4 per pixel).
+        #[arg(long)]
+        photons_per_iteration: Option<u64>,
+        /// The error whose reaching time is reported.
+        #[arg(long, default_value_t = 0.01)]
+        target: f64,
+        /// Seed of the renders.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Write the curves as CSV.
+        #[arg(long)]
+        csv: Option<PathBuf>,
+        /// Write a log-log plot as PNG.
+        #[arg(long)]
+        plot: Option<PathBuf>,
+    },
+}
+
+fn bench(cmd: BenchCommand) -> anyhow::Result<()> {
+    let BenchCommand::Convergence {
+        scene,
+        methods,
+        time,
+        steps,
+        reference,
+        reference_spp,
+        width,
+        height,
+        photons_per_iteration,
+        target,
+        seed,
+        csv,
+        plot,
+    } = cmd;
+    use quasar::convergence;
+    let methods = convergence::parse_methods(&methods)?;
+    if !(time > 0.0 && time.is_finite()) || steps == 0 || steps > 20 {
+        anyhow::bail!("--time must be positive and --steps in 1..=20");
+    }
+    let desc = load_scene(&scene)?;
+    let (w, h, reference) = match reference {
+        Some(p) => {
+            let img = quasar::output::read_exr(&p)?;
+            let y = img.channel("Y").ok_or_else(|| anyhow::anyhow!("{}: no Y channel", p.display()))?.to_vec();
+            (img.width as u32, img.height as u32, y)
+        }
+        None => {
+            let ov = JobOverrides {
+                width: Some(width),
+                height: Some(height),
+                spp: Some(reference_spp),
+                seed: Some(seed ^ 0x5eed),
+                method: Some("pt".into()),
+                ..Default::default()
+            };
+            let t = std::time::Instant::now();
+            let out = render_desc(&desc, &ov, true)?;
+            eprintln!("reference: pt {width}x{height}, {reference_spp} spp, {:.1} s", t.elapsed().as_secs_f64());
+            (width, height, out.image.channel("Y").unwrap_or_default().to_vec())
+        }
+    };
+    let budgets: Vec<f64> = (0..steps).rev().map(|k| time / 2f64.powi(k as i32)).collect();
+    let base = JobOverrides {
+        width: Some(w),
+        height: Some(h),
+        seed: Some(seed),
+        bidir: BidirectionalOptions {
+            photons_per_iteration: Some(photons_per_iteration.unwrap_or(4 * w as u64 * h as u64)),
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    let points = convergence::run(&desc, &base, &methods, &budgets, &reference, |p| {
+        eprintln!("{} {} s: relMSE {:.5} ({} samples/iterations)", p.label, p.budget, p.rel_mse, p.samples);
+    })?;
+    print!("{}", convergence::markdown_table(&points, target));
+    if let Some(p) = csv {
+        std::fs::write(&p, convergence::to_csv(&points)).map_err(|e| anyhow::anyhow!("{}: {e}", p.display()))?;
+    }
+    if let Some(p) = plot {
+        print!("{}", convergence::write_plot(&points, &p)?);
+    }
+    Ok(())
 }
 
 fn run() -> anyhow::Result<()> {
@@ -190,6 +308,7 @@ fn run() -> anyhow::Result<()> {
             }
             Ok(())
         }
+        Command::Bench { what } => bench(what),
         Command::Info { scene } => {
             let desc = load_scene(&scene)?;
             let compiled = Scene::compile(&desc)?;

@@ -100,3 +100,33 @@ fn compare_command() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("sizes differ"));
 }
+
+/// `quasar bench convergence` writes the curves (CSV: one row per method and budget), the table
+/// and the plot.
+#[test]
+fn bench_convergence_command() {
+    let dir = tempfile::tempdir().unwrap();
+    let (csv, png) = (dir.path().join("c.csv"), dir.path().join("c.png"));
+    let out = quasar()
+        .args(["bench", "convergence"])
+        .arg(cornell())
+        .args(["--width", "16", "--height", "12", "--reference-spp", "256", "--time", "0.2", "--steps", "2"])
+        .args(["--methods", "pt,vismap:1,adaptive+quasi:20", "--csv"])
+        .arg(&csv)
+        .arg("--plot")
+        .arg(&png)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let rows: Vec<&str> = text.lines().skip(1).collect();
+    assert_eq!(rows.len(), 6, "{text}");
+    for r in rows {
+        let e: f64 = r.rsplit(',').next().unwrap().parse().unwrap();
+        assert!(e.is_finite() && e > 0.0, "{r}");
+    }
+    assert!(png.exists());
+    assert!(String::from_utf8_lossy(&out.stdout).contains("| adaptive+quasi:20 |"));
+    let bad = quasar().args(["bench", "convergence"]).arg(cornell()).args(["--methods", "pt:2"]).output().unwrap();
+    assert!(!bad.status.success());
+}

@@ -1,0 +1,290 @@
+//! Error-vs-time curves (`quasar bench convergence`, DESIGN.md section 9): each method renders
+//! the same scene for a series of time budgets and its luminance is compared with a converged
+//! reference (relMSE, as `quasar compare`). Output: CSV, a markdown table with the time each
+//! method needs to reach a target error, and a log-log PNG plot.
+
+use std::path::Path;
+
+use anyhow::{Result, bail};
+use quasar_importers::SceneDesc;
+
+use crate::compare::rel_mse;
+use crate::job::{JobOverrides, render_desc};
+use crate::method::BidirectionalOptions;
+
+/// One method configuration of a comparison, parsed from `name[:option]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MethodVariant {
+    /// Label in tables and plots (the text it was parsed from).
+    pub label: String,
+    /// Method name.
+    pub method: String,
+    /// Its bidirectional options.
+    pub bidir: BidirectionalOptions,
+}
+
+impl MethodVariant {
+    /// Parses `pt`, `vismap[:DEPTH]`, `adaptive[:paper]`, `quasi[:CONE]`, `adaptive+quasi[:CONE]`.
+    pub fn parse(s: &str) -> Result<Self> {
+        let (method, option) = s.split_once(':').map_or((s, None), |(m, o)| (m, Some(o)));
+        let mut bidir = BidirectionalOptions::default();
+        match (method, option) {
+            ("pt", None) | ("adaptive", None) | ("quasi", None) | ("adaptive+quasi", None) => {}
+            ("vismap", None) => bidir.gather_depth = Some(0),
+            ("vismap", Some(d)) => bidir.gather_depth = Some(d.parse().map_err(|_| bad(s))?),
+            ("adaptive", Some("paper")) => bidir.adaptive_paper = true,
+            ("quasi" | "adaptive+quasi", Some(c)) => bidir.cone_deg = Some(c.parse().map_err(|_| bad(s))?),
+            _ => return Err(bad(s)),
+        }
+        Ok(Self { label: s.to_string(), method: method.to_string(), bidir })
+    }
+}
+
+fn bad(s: &str) -> anyhow::Error {
+    anyhow::anyhow!(
+        "bad method '{s}' (expected pt, vismap[:DEPTH], adaptive[:paper], quasi[:CONE] or adaptive+quasi[:CONE])"
+    )
+}
+
+/// Parses a comma-separated list of [`MethodVariant`]s.
+pub fn parse_methods(list: &str) -> Result<Vec<MethodVariant>> {
+    let v: Vec<_> =
+        list.split(',').map(str::trim).filter(|s| !s.is_empty()).map(MethodVariant::parse).collect::<Result<_>>()?;
+    if v.is_empty() {
+        bail!("no methods given");
+    }
+    Ok(v)
+}
+
+/// One render of a curve.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CurvePoint {
+    /// Method label.
+    pub label: String,
+    /// Time budget (s).
+    pub budget: f64,
+    /// Seconds the render took.
+    pub seconds: f64,
+    /// Samples per pixel or iterations reached.
+    pub samples: u32,
+    /// relMSE of the luminance against the reference.
+    pub rel_mse: f64,
+}
+
+/// Renders `desc` with every method for every budget (`base` supplies size, seed, threads) and
+/// measures relMSE against `reference` (luminance, same size). Photon methods use
+/// `photons_per_iteration` unless their variant sets it.
+pub fn run(
+    desc: &SceneDesc,
+    base: &JobOverrides,
+    methods: &[MethodVariant],
+    budgets: &[f64],
+    reference: &[f32],
+    mut progress: impl FnMut(&CurvePoint),
+) -> Result<Vec<CurvePoint>> {
+    let mut points = Vec::new();
+    for m in methods {
+        for &budget in budgets {
+            let ov = JobOverrides {
+                time_s: Some(budget),
+                method: Some(m.method.clone()),
+                bidir: if m.method == "pt" {
+                    BidirectionalOptions::default()
+                } else {
+                    BidirectionalOptions {
+                        photons_per_iteration: m.bidir.photons_per_iteration.or(base.bidir.photons_per_iteration),
+                        ..m.bidir.clone()
+                    }
+                },
+                ..base.clone()
+            };
+            let out = render_desc(desc, &ov, false)?;
+            let y = out.image.channel("Y").unwrap_or_default();
+            if y.len() != reference.len() {
+                bail!("the reference has {} pixels, the render {}", reference.len(), y.len());
+            }
+            let p = CurvePoint {
+                label: m.label.clone(),
+                budget,
+                seconds: out.result.seconds,
+                samples: out.result.spp,
+                rel_mse: rel_mse(y, reference),
+            };
+            progress(&p);
+            points.push(p);
+        }
+    }
+    Ok(points)
+}
+
+/// Seconds to reach relMSE `target` on one method's curve (budget, error), interpolating
+/// log-linearly between the budgets around it; None when no budget reaches it. A curve that is
+/// already below the target at its first budget returns that budget (an upper bound).
+pub fn time_to_reach(curve: &[(f64, f64)], target: f64) -> Option<f64> {
+    if curve.first()?.1 <= target {
+        return Some(curve[0].0);
+    }
+    curve.windows(2).find(|w| w[1].1 <= target).map(|w| {
+        let ((t0, e0), (t1, e1)) = (w[0], w[1]);
+        let f = (target.ln() - e0.ln()) / (e1.ln() - e0.ln());
+        (t0.ln() + f * (t1.ln() - t0.ln())).exp()
+    })
+}
+
+/// The points as CSV: `method,budget_s,seconds,samples,relmse`.
+pub fn to_csv(points: &[CurvePoint]) -> String {
+    let mut s = String::from("method,budget_s,seconds,samples,relmse\n");
+    for p in points {
+        s += &format!("{},{},{:.4},{},{:.6e}\n", p.label, p.budget, p.seconds, p.samples, p.rel_mse);
+    }
+    s
+}
+
+fn labels(points: &[CurvePoint]) -> Vec<&str> {
+    let mut v: Vec<&str> = Vec::new();
+    for p in points {
+        if !v.contains(&p.label.as_str()) {
+            v.push(&p.label);
+        }
+    }
+    v
+}
+
+/// A markdown table: one row per method, relMSE (samples) per budget, and the time to `target`.
+pub fn markdown_table(points: &[CurvePoint], target: f64) -> String {
+    let budgets: Vec<f64> = {
+        let mut b: Vec<f64> = points.iter().map(|p| p.budget).collect();
+        b.sort_by(f64::total_cmp);
+        b.dedup();
+        b
+    };
+    let mut s = String::from("| method |");
+    for b in &budgets {
+        s += &format!(" {b} s |");
+    }
+    s += &format!(" time to relMSE {target} |\n|---|{}---|\n", "---|".repeat(budgets.len()));
+    for label in labels(points) {
+        let curve: Vec<&CurvePoint> = points.iter().filter(|p| p.label == label).collect();
+        s += &format!("| {label} |");
+        for c in &curve {
+            s += &format!(" {:.4} ({}) |", c.rel_mse, c.samples);
+        }
+        let xy: Vec<(f64, f64)> = curve.iter().map(|c| (c.budget, c.rel_mse)).collect();
+        let last = budgets.last().copied().unwrap_or(0.0);
+        s += &match time_to_reach(&xy, target) {
+            Some(t) if t <= xy[0].0 => format!(" <= {t:.2} s |\n"),
+            Some(t) => format!(" {t:.2} s |\n"),
+            None => format!(" > {last} s |\n"),
+        };
+    }
+    s
+}
+
+/// Colours of the plot's curves, in method order (also printed as the legend).
+pub const PLOT_COLOURS: [(&str, [u8; 3]); 8] = [
+    ("black", [0, 0, 0]),
+    ("red", [220, 30, 30]),
+    ("blue", [30, 60, 220]),
+    ("green", [20, 150, 40]),
+    ("orange", [240, 140, 0]),
+    ("purple", [140, 40, 170]),
+    ("cyan", [0, 170, 190]),
+    ("brown", [130, 80, 30]),
+];
+
+/// Writes a 640x480 log-log plot of relMSE (vertical) against seconds (horizontal): grey lines at
+/// every power of ten, one polyline per method in [`PLOT_COLOURS`] order, a dot per render. It has
+/// no text: the legend and the axis ranges are returned as a string to print beside it.
+pub fn write_plot(points: &[CurvePoint], path: &Path) -> Result<String> {
+    const W: u32 = 640;
+    const H: u32 = 480;
+    const M: f64 = 20.0;
+    let finite: Vec<&CurvePoint> = points.iter().filter(|p| p.rel_mse > 0.0 && p.seconds > 0.0).collect();
+    if finite.is_empty() {
+        bail!("nothing to plot");
+    }
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for p in &finite {
+        x0 = x0.min(p.seconds.log10());
+        x1 = x1.max(p.seconds.log10());
+        y0 = y0.min(p.rel_mse.log10());
+        y1 = y1.max(p.rel_mse.log10());
+    }
+    let (x0, x1, y0, y1) = (x0.floor(), x1.ceil().max(x0.floor() + 1.0), y0.floor(), y1.ceil().max(y0.floor() + 1.0));
+    let to_px = |s: f64, e: f64| {
+        let x = M + (s.log10() - x0) / (x1 - x0) * (W as f64 - 2.0 * M);
+        let y = H as f64 - M - (e.log10() - y0) / (y1 - y0) * (H as f64 - 2.0 * M);
+        (x, y)
+    };
+    let mut img = image::RgbImage::from_pixel(W, H, image::Rgb([255, 255, 255]));
+    let line = |img: &mut image::RgbImage, a: (f64, f64), b: (f64, f64), c: [u8; 3]| {
+        let n = ((b.0 - a.0).abs().max((b.1 - a.1).abs()) as usize).max(1);
+        for i in 0..=n {
+            let t = i as f64 / n as f64;
+            let (x, y) = (a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1));
+            if x >= 0.0 && y >= 0.0 && (x as u32) < W && (y as u32) < H {
+                img.put_pixel(x as u32, y as u32, image::Rgb(c));
+            }
+        }
+    };
+    for d in x0 as i32..=x1 as i32 {
+        let (x, _) = to_px(10f64.powi(d), 10f64.powf(y0));
+        line(&mut img, (x, M), (x, H as f64 - M), [200, 200, 200]);
+    }
+    for d in y0 as i32..=y1 as i32 {
+        let (_, y) = to_px(10f64.powf(x0), 10f64.powi(d));
+        line(&mut img, (M, y), (W as f64 - M, y), [200, 200, 200]);
+    }
+    let mut legend = format!(
+        "plot: seconds 1e{x0}..1e{x1} (horizontal, log), relMSE 1e{y0}..1e{y1} (vertical, log); grid at powers of ten\n"
+    );
+    for (k, label) in labels(points).iter().enumerate() {
+        let (name, colour) = PLOT_COLOURS[k % PLOT_COLOURS.len()];
+        legend += &format!("  {name}: {label}\n");
+        let pts: Vec<(f64, f64)> =
+            finite.iter().filter(|p| p.label == *label).map(|p| to_px(p.seconds, p.rel_mse)).collect();
+        for w in pts.windows(2) {
+            line(&mut img, w[0], w[1], colour);
+        }
+        for &(x, y) in &pts {
+            for dy in -2..=2 {
+                for dx in -2..=2 {
+                    let (px, py) = (x as i64 + dx, y as i64 + dy);
+                    if px >= 0 && py >= 0 && (px as u32) < W && (py as u32) < H {
+                        img.put_pixel(px as u32, py as u32, image::Rgb(colour));
+                    }
+                }
+            }
+        }
+    }
+    let tmp = path.with_extension("png.tmp");
+    img.save_with_format(&tmp, image::ImageFormat::Png).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    std::fs::rename(&tmp, path)?;
+    Ok(legend)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn methods_parse() {
+        let v = parse_methods("pt, vismap:1,adaptive:paper,quasi:30,adaptive+quasi").unwrap();
+        assert_eq!(v.len(), 5);
+        assert_eq!(v[1].bidir.gather_depth, Some(1));
+        assert!(v[2].bidir.adaptive_paper);
+        assert_eq!(v[3].bidir.cone_deg, Some(30.0));
+        assert!(parse_methods("pt:3").is_err());
+        assert!(parse_methods("bdpt").is_err());
+        assert!(parse_methods("").is_err());
+    }
+
+    #[test]
+    fn time_to_reach_interpolates_in_log_space() {
+        let curve = [(1.0, 0.1), (4.0, 0.01)];
+        let t = time_to_reach(&curve, 0.0316227766).unwrap();
+        assert!((t - 2.0).abs() < 1e-6, "{t}");
+        assert_eq!(time_to_reach(&curve, 0.5), Some(1.0));
+        assert_eq!(time_to_reach(&curve, 0.001), None);
+    }
+}
