@@ -70,13 +70,14 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     {
         bail!("time budget must be a positive number of seconds, got {t}");
     }
-    if let Some(e) = ov.target_error
+    let target_error = ov.target_error.or(r.target_error);
+    if let Some(e) = target_error
         && !(e > 0.0 && e.is_finite())
     {
         bail!("target error must be a positive number, got {e}");
     }
     // with a time budget or an error target, the sample (iteration) count is only a cap
-    let open_ended = time_s.is_some() || ov.target_error.is_some();
+    let open_ended = time_s.is_some() || target_error.is_some();
     let seed = ov.seed.unwrap_or(r.seed);
     let max_depth = ov.max_depth.or(r.max_depth);
     let method = Method::from_name(ov.method.as_deref().unwrap_or(&r.method))?;
@@ -85,11 +86,9 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     let camera = Camera::new(&desc.camera, width, height).with_context(|| desc.source.display().to_string())?;
     let resolved = method.resolve(&scene);
     let bidir = if resolved.is_bidirectional() {
-        Some(bidirectional_settings(
-            resolved,
-            &ov.bidir,
-            if open_ended { ov.spp.unwrap_or(u32::MAX / 2) } else { spp },
-        )?)
+        // command-line options override the scene's `[render]` ones that apply to the method
+        let options = ov.bidir.or(&BidirectionalOptions::from_scene(&r.bidirectional).applicable_to(resolved));
+        Some(bidirectional_settings(resolved, &options, if open_ended { ov.spp.unwrap_or(u32::MAX / 2) } else { spp })?)
     } else if ov.bidir.any() {
         bail!(
             "the bidirectional options (--iterations, --photons-per-iteration, --gather-depth, ...) do not apply to {}",
@@ -101,7 +100,7 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     let opts = RenderOptions {
         spp: if open_ended { ov.spp.unwrap_or(u32::MAX / 2) } else { spp },
         time_limit: time_s,
-        target_error: ov.target_error,
+        target_error,
         seed,
         threads: ov.threads,
         pt: PtSettings { max_depth, ..PtSettings::default() },
@@ -111,7 +110,7 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     let mut metadata = Vec::new();
     let result = match bidir {
         Some(v) => {
-            let run = VismapRun { seed, time_limit: time_s, target_error: ov.target_error, progress };
+            let run = VismapRun { seed, time_limit: time_s, target_error, progress };
             let (result, stats) = vismap::render(&scene, &camera, &v, &run, threads);
             let depth = match v.depth {
                 GatherDepth::Fixed(d) => d.to_string(),
@@ -158,7 +157,7 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         ("wavelengths".into(), "hero, 4 per path, 360-830 nm, visible-importance pdf".into()),
         ("units".into(), "XYZ normalised so a flat spectral radiance of 1 gives Y = 1".into()),
         ("rejected_samples".into(), result.film.rejected_samples().to_string()),
-        ("target_error".into(), ov.target_error.map_or("none".into(), |e| e.to_string())),
+        ("target_error".into(), target_error.map_or("none".into(), |e| e.to_string())),
         ("estimated_rel_error".into(), format!("{:.6}", result.film.estimated_rel_error())),
         ("threads".into(), result.threads.to_string()),
         ("render_time_s".into(), format!("{:.3}", result.seconds)),

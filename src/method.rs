@@ -94,6 +94,48 @@ impl BidirectionalOptions {
     pub fn any(&self) -> bool {
         *self != Self::default()
     }
+
+    /// The scene file's `[render]` settings as options.
+    pub fn from_scene(s: &quasar_importers::BidirectionalSettings) -> Self {
+        Self {
+            iterations: s.iterations,
+            photons_per_iteration: s.photons_per_iteration,
+            gather_depth: s.gather_depth,
+            max_gather_depth: s.max_gather_depth,
+            adaptive_paper: false,
+            cone_deg: s.cone_deg,
+            radius: s.radius,
+            alpha: s.alpha,
+        }
+    }
+
+    /// Only the options `method` uses (scene-file settings may name others: a scene written for
+    /// `quasi` can still be rendered with `--method vismap`).
+    pub fn applicable_to(&self, method: Method) -> Self {
+        let adaptive = matches!(method, Method::Adaptive | Method::AdaptiveQuasi);
+        let quasi = matches!(method, Method::Quasi | Method::AdaptiveQuasi);
+        Self {
+            gather_depth: self.gather_depth.filter(|_| !adaptive),
+            max_gather_depth: self.max_gather_depth.filter(|_| adaptive),
+            adaptive_paper: self.adaptive_paper && adaptive,
+            cone_deg: self.cone_deg.filter(|_| quasi),
+            ..self.clone()
+        }
+    }
+
+    /// These options, with the ones not given taken from `fallback`.
+    pub fn or(&self, fallback: &Self) -> Self {
+        Self {
+            iterations: self.iterations.or(fallback.iterations),
+            photons_per_iteration: self.photons_per_iteration.or(fallback.photons_per_iteration),
+            gather_depth: self.gather_depth.or(fallback.gather_depth),
+            max_gather_depth: self.max_gather_depth.or(fallback.max_gather_depth),
+            adaptive_paper: self.adaptive_paper || fallback.adaptive_paper,
+            cone_deg: self.cone_deg.or(fallback.cone_deg),
+            radius: self.radius.or(fallback.radius),
+            alpha: self.alpha.or(fallback.alpha),
+        }
+    }
 }
 
 /// Default deepest gather depth of the adaptive methods.

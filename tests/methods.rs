@@ -212,3 +212,29 @@ fn auto_picks_pt_for_diffuse_and_adaptive_quasi_for_narrow_scenes() {
         assert_eq!(img.meta("method_requested"), Some("auto"));
     }
 }
+
+/// The scene's `[render]` table sets the bidirectional methods; the command line overrides it,
+/// and settings a method does not use (the scene's cone under `--method vismap`) are ignored.
+#[test]
+fn render_table_sets_the_bidirectional_methods() {
+    let text = NARROW_GLOSSY.replace(
+        "[render]\nwidth = 40\nheight = 30",
+        "[render]\nwidth = 8\nheight = 6\nmethod = \"quasi\"\niterations = 3\ncone_deg = 25\nphotons_per_iteration = 100",
+    );
+    assert_ne!(text, NARROW_GLOSSY);
+    let scene = write_scene(&text, &[]);
+    let img = render_file(&scene.path, &JobOverrides::default()).image;
+    assert_eq!(img.meta("method"), Some("quasi"));
+    assert_eq!(img.meta("iterations"), Some("3"));
+    assert_eq!(img.meta("cone_deg"), Some("25"));
+    assert_eq!(img.meta("photons_per_iteration"), Some("100"));
+    let ov = JobOverrides {
+        method: Some("vismap".into()),
+        bidir: BidirectionalOptions { iterations: Some(2), ..Default::default() },
+        ..Default::default()
+    };
+    let img = render_file(&scene.path, &ov).image;
+    assert_eq!(img.meta("method"), Some("vismap"));
+    assert_eq!(img.meta("iterations"), Some("2"));
+    assert_eq!(img.meta("cone_deg"), Some("none"));
+}

@@ -173,11 +173,44 @@ pub struct RenderSettings {
     pub max_depth: Option<u32>,
     /// Integration method name ("pt", "auto", ...).
     pub method: String,
+    /// Stop at this estimated RMS relative error of the image.
+    pub target_error: Option<f64>,
+    /// Settings of the bidirectional methods (used only when one of them runs).
+    pub bidirectional: BidirectionalSettings,
+}
+
+/// `[render]` settings of the bidirectional methods (None: the method's default).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct BidirectionalSettings {
+    /// Iterations (default: `spp`).
+    pub iterations: Option<u32>,
+    /// Photons per iteration.
+    pub photons_per_iteration: Option<u64>,
+    /// Fixed gather depth (`vismap`, `quasi`).
+    pub gather_depth: Option<u32>,
+    /// Deepest depth of the adaptive methods.
+    pub max_gather_depth: Option<u32>,
+    /// Quasi-specular cone half-angle in degrees.
+    pub cone_deg: Option<f32>,
+    /// Initial gather radius in metres.
+    pub radius: Option<f32>,
+    /// Radius reduction alpha.
+    pub alpha: Option<f32>,
 }
 
 impl Default for RenderSettings {
     fn default() -> Self {
-        Self { width: 640, height: 480, spp: 64, time_s: None, seed: 0, max_depth: None, method: "auto".into() }
+        Self {
+            width: 640,
+            height: 480,
+            spp: 64,
+            time_s: None,
+            seed: 0,
+            max_depth: None,
+            method: "auto".into(),
+            target_error: None,
+            bidirectional: BidirectionalSettings::default(),
+        }
     }
 }
 

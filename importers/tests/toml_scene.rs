@@ -66,6 +66,19 @@ method = "pt"
     assert_eq!(s.camera.up, Vec3::Z);
     assert_eq!(s.camera.position, Vec3::new(0.0, 5.0, 0.0));
     assert!(s.source.ends_with("scene.toml"));
+    // the bidirectional methods' settings; `radius` is a length in the scene's units
+    let s = ok(
+        &format!(
+            "units = \"cm\"\n[render]\nmethod = \"adaptive+quasi\"\niterations = 12\nphotons_per_iteration = 5000\n\
+             max_gather_depth = 3\ncone_deg = 20\nradius = 2\nalpha = 0.5\ntarget_error = 0.02\n{BASE}"
+        ),
+        &[],
+    );
+    let b = &s.render.bidirectional;
+    assert_eq!((b.iterations, b.photons_per_iteration, b.max_gather_depth), (Some(12), Some(5000), Some(3)));
+    assert_eq!((b.cone_deg, b.alpha, b.gather_depth), (Some(20.0), Some(0.5), None));
+    assert!((b.radius.unwrap() - 0.02).abs() < 1e-7);
+    assert_eq!(s.render.target_error, Some(0.02f32 as f64));
     // defaults
     let s = ok(BASE, &[]);
     assert_eq!(s.render, quasar_importers::RenderSettings::default());

@@ -114,7 +114,7 @@ fn parse_at_depth(text: &str, path: &Path, opts: &ImportOptions, depth: u32) -> 
         b.lights.push(settings::light(&l, b.unit)?);
     }
     let camera = settings::camera(top.opt_table("camera")?, b.unit)?;
-    let render = settings::render(top.opt_table("render")?)?;
+    let render = settings::render(top.opt_table("render")?, b.unit)?;
     for o in tables(&top, "override")? {
         b.override_(&o)?;
     }

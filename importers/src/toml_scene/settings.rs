@@ -8,11 +8,39 @@ use super::{LIGHT_TYPES, RENDER_METHODS};
 use crate::error::ImportError;
 use crate::scene_desc::{CameraDesc, FovAxis, LightDesc, RenderSettings};
 
-/// Reads the `[render]` table (defaults when absent).
-pub(super) fn render(t: Option<Tbl<'_>>) -> Result<RenderSettings, ImportError> {
+/// Reads the `[render]` table (defaults when absent); lengths (`radius`) are converted with `unit`.
+pub(super) fn render(t: Option<Tbl<'_>>, unit: f32) -> Result<RenderSettings, ImportError> {
     let mut r = RenderSettings::default();
     let Some(t) = t else { return Ok(r) };
-    t.check_keys(&["width", "height", "spp", "time", "seed", "max_depth", "method"])?;
+    t.check_keys(&[
+        "width",
+        "height",
+        "spp",
+        "time",
+        "seed",
+        "max_depth",
+        "method",
+        "target_error",
+        "iterations",
+        "photons_per_iteration",
+        "gather_depth",
+        "max_gather_depth",
+        "cone_deg",
+        "radius",
+        "alpha",
+    ])?;
+    let b = &mut r.bidirectional;
+    b.iterations = t.opt_int("iterations", 1, u32::MAX as i128)?;
+    b.photons_per_iteration = t.opt_int("photons_per_iteration", 1, 1i128 << 32)?;
+    b.gather_depth = t.opt_int("gather_depth", 0, 64)?;
+    b.max_gather_depth = t.opt_int("max_gather_depth", 0, 7)?;
+    b.cone_deg = t.opt_f32_where("cone_deg", "in (0, 90) degrees", |c| c > 0.0 && c < 90.0)?;
+    b.radius = t.opt_f32_where("radius", "> 0", |x| x > 0.0)?.map(|x| x * unit);
+    if b.radius.is_some_and(|x| !(x.is_finite() && x > 0.0)) {
+        return Err(t.doc.invalid(&t.key_span("radius"), "`render.radius` is out of range in metres"));
+    }
+    b.alpha = t.opt_f32_where("alpha", "in (0, 1)", |a| a > 0.0 && a < 1.0)?;
+    r.target_error = t.opt_f32_where("target_error", "> 0", |e| e > 0.0)?.map(f64::from);
     if let Some(w) = t.opt_int("width", 1, 65536)? {
         r.width = w;
     }
