@@ -156,6 +156,7 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         ("height".into(), height.to_string()),
         ("wavelengths".into(), "hero, 4 per path, 360-830 nm, visible-importance pdf".into()),
         ("units".into(), "XYZ normalised so a flat spectral radiance of 1 gives Y = 1".into()),
+        ("partial".into(), result.interrupted.to_string()),
         ("rejected_samples".into(), result.film.rejected_samples().to_string()),
         ("target_error".into(), target_error.map_or("none".into(), |e| e.to_string())),
         ("estimated_rel_error".into(), format!("{:.6}", result.film.estimated_rel_error())),

@@ -13,6 +13,7 @@ pub mod convergence;
 pub mod film;
 pub mod geometry;
 pub mod integrator;
+pub mod interrupt;
 pub mod job;
 pub mod light;
 pub mod method;

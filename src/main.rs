@@ -250,6 +250,7 @@ fn run() -> anyhow::Result<()> {
             quiet,
         } => {
             let desc = load_scene(&scene)?;
+            quasar::interrupt::install_handler();
             let ov = JobOverrides {
                 width,
                 height,
@@ -276,6 +277,9 @@ fn run() -> anyhow::Result<()> {
                 PathBuf::from(scene.file_stem().map_or("out".into(), |s| s.to_string_lossy().into_owned()) + ".exr")
             });
             write_outputs(&out, &exr, preview.as_ref())?;
+            if out.result.interrupted {
+                eprintln!("interrupted: wrote the partial image {} ({} spp)", exr.display(), out.result.spp);
+            }
             if !quiet {
                 eprintln!(
                     "wrote {} ({}x{}, {} spp, {:.2} s, {} threads)",

@@ -58,6 +58,8 @@ pub struct RenderResult {
     pub depth: Vec<f32>,
     /// Method-specific AOV channels (e.g. `trace_depth.Y`).
     pub extra: Vec<crate::film::Channel>,
+    /// The render was stopped by [`crate::interrupt`] before its budget was spent.
+    pub interrupted: bool,
     /// Samples per pixel actually taken.
     pub spp: u32,
     /// Wall-clock seconds spent rendering (excluding scene loading).
@@ -93,9 +95,15 @@ fn render_in_pool(scene: &Scene, camera: &Camera, opts: &RenderOptions, threads:
     let bar = progress_bar(opts.progress, w as u64 * h as u64 * spp_total as u64);
     let mut done = 0u32;
     let mut pass = 1u32;
+    let mut interrupted = false;
     while done < spp_total {
         let n = pass.min(spp_total - done);
         film.pixels.par_chunks_mut(w as usize).enumerate().for_each(|(y, row)| {
+            // an interrupted pass leaves the remaining rows with fewer samples: every pixel is
+            // the mean of its own samples, so the image stays valid
+            if crate::interrupt::requested() {
+                return;
+            }
             for (x, acc) in row.iter_mut().enumerate() {
                 for s in done..done + n {
                     sample_pixel(scene, camera, opts, x as u32, y as u32, s, acc);
@@ -106,6 +114,13 @@ fn render_in_pool(scene: &Scene, camera: &Camera, opts: &RenderOptions, threads:
             }
         });
         done += n;
+        if crate::interrupt::requested() {
+            // `spp` counts the samples every pixel has; the interrupted pass gave some pixels more
+            // (`spp.Y` has the exact counts)
+            done -= n;
+            interrupted = true;
+            break;
+        }
         if opts.target_error.is_some_and(|e| film.estimated_rel_error() <= e) {
             break;
         }
@@ -125,7 +140,15 @@ fn render_in_pool(scene: &Scene, camera: &Camera, opts: &RenderOptions, threads:
         b.finish_and_clear();
     }
     let depth = depth_pass(scene, camera);
-    RenderResult { film, depth, extra: Vec::new(), spp: done, seconds: start.elapsed().as_secs_f64(), threads }
+    RenderResult {
+        film,
+        depth,
+        extra: Vec::new(),
+        interrupted,
+        spp: done,
+        seconds: start.elapsed().as_secs_f64(),
+        threads,
+    }
 }
 
 /// A progress bar with ETA on stderr over `total` units of work, or None when `show` is false.

@@ -94,3 +94,33 @@ fn missing_scene_file_is_a_clear_error() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("nope.toml"));
 }
+
+/// SIGINT during a render stops it and writes a valid EXR of what was done, marked partial;
+/// the same for a bidirectional method (after the current iteration).
+#[test]
+fn interrupted_render_writes_a_valid_partial_exr() {
+    let s = write_scene(GOOD, &[]);
+    for method in ["pt", "vismap"] {
+        let out = s.dir.path().join(format!("partial-{method}.exr"));
+        let mut child = quasar()
+            .args(["render", "--quiet", "--width", "64", "--height", "48", "--method", method, "--spp", "1000000"])
+            .arg(&s.path)
+            .arg("-o")
+            .arg(&out)
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(1500));
+        // SAFETY: plain kill(2) on our own child process
+        let rc = unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGINT) };
+        assert_eq!(rc, 0);
+        let status = child.wait().unwrap();
+        assert!(status.success(), "{method}: exit {status:?}");
+        let img = quasar::output::read_exr(&out).unwrap();
+        assert_eq!(img.meta("partial"), Some("true"), "{method}");
+        let spp: u32 = img.meta("spp").unwrap().parse().unwrap();
+        assert!(spp < 1_000_000, "{method}: {spp}");
+        assert!(img.channels.iter().filter(|c| c.name != "depth.Z").all(|c| c.values.iter().all(|v| v.is_finite())));
+        assert!(img.channel("spp.Y").unwrap().iter().all(|&n| n >= spp as f32));
+    }
+}

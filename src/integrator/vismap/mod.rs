@@ -240,6 +240,7 @@ fn render_in_pool(
     let mut depth_sum = vec![0u64; n_pixels];
     let mut depth_count = vec![0u32; n_pixels];
     let mut done = 0;
+    let mut interrupted = false;
     for k in 1..=iterations {
         let wl = SampledWavelengths::sample_visible(iteration_wavelength_u(run.seed, k));
         let depths = iteration_depths(scene, camera, settings, &base_rule, wl, run.seed, k, &mut histogram);
@@ -303,6 +304,10 @@ fn render_in_pool(
         if let Some(b) = &bar {
             b.inc(1);
         }
+        if crate::interrupt::requested() {
+            interrupted = true;
+            break;
+        }
         if run.target_error.is_some_and(|e| film.estimated_rel_error() <= e) {
             break;
         }
@@ -320,7 +325,8 @@ fn render_in_pool(
     let trace_depth =
         depth_sum.iter().zip(&depth_count).map(|(&s, &c)| if c > 0 { s as f32 / c as f32 } else { 0.0 }).collect();
     let extra = vec![Channel { name: "trace_depth.Y".into(), values: trace_depth }];
-    let result = RenderResult { film, depth, extra, spp: done, seconds: start.elapsed().as_secs_f64(), threads };
+    let result =
+        RenderResult { film, depth, extra, interrupted, spp: done, seconds: start.elapsed().as_secs_f64(), threads };
     (result, stats)
 }
 
