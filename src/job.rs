@@ -40,6 +40,8 @@ pub struct JobOverrides {
     pub method: Option<String>,
     /// Settings of the bidirectional methods.
     pub bidir: BidirectionalOptions,
+    /// Render share k of n of the samples / iterations (`--shard K/N`, merged by `quasar merge`).
+    pub shard: Option<(u32, u32)>,
 }
 
 /// A finished render with everything needed to write it.
@@ -69,6 +71,10 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         && !(t > 0.0 && t.is_finite())
     {
         bail!("time budget must be a positive number of seconds, got {t}");
+    }
+    let shard = ov.shard.unwrap_or((0, 1));
+    if shard.1 == 0 || shard.0 >= shard.1 {
+        bail!("shard {}/{} is out of range (K/N with 0 <= K < N)", shard.0, shard.1);
     }
     let target_error = ov.target_error.or(r.target_error);
     if let Some(e) = target_error
@@ -101,6 +107,7 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         spp: if open_ended { ov.spp.unwrap_or(u32::MAX / 2) } else { spp },
         time_limit: time_s,
         target_error,
+        shard,
         seed,
         threads: ov.threads,
         pt: PtSettings { max_depth, ..PtSettings::default() },
@@ -110,7 +117,7 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     let mut metadata = Vec::new();
     let result = match bidir {
         Some(v) => {
-            let run = VismapRun { seed, time_limit: time_s, target_error, progress };
+            let run = VismapRun { seed, time_limit: time_s, target_error, progress, shard };
             let (result, stats) = vismap::render(&scene, &camera, &v, &run, threads);
             let depth = match v.depth {
                 GatherDepth::Fixed(d) => d.to_string(),
@@ -157,6 +164,7 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         ("wavelengths".into(), "hero, 4 per path, 360-830 nm, visible-importance pdf".into()),
         ("units".into(), "XYZ normalised so a flat spectral radiance of 1 gives Y = 1".into()),
         ("partial".into(), result.interrupted.to_string()),
+        ("shard".into(), format!("{}/{}", shard.0, shard.1)),
         ("rejected_samples".into(), result.film.rejected_samples().to_string()),
         ("target_error".into(), target_error.map_or("none".into(), |e| e.to_string())),
         ("estimated_rel_error".into(), format!("{:.6}", result.film.estimated_rel_error())),

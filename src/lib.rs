@@ -16,6 +16,7 @@ pub mod integrator;
 pub mod interrupt;
 pub mod job;
 pub mod light;
+pub mod merge;
 pub mod method;
 pub mod output;
 pub mod render;

@@ -78,6 +78,10 @@ enum Command {
         /// Bidirectional methods: radius reduction alpha in (0, 1) (default 2/3).
         #[arg(long)]
         alpha: Option<f32>,
+        /// Render share K of N (0 <= K < N) of the samples or iterations, with streams disjoint
+        /// from the other shares; `quasar merge` combines the shards into the full render.
+        #[arg(long, value_parser = parse_shard)]
+        shard: Option<(u32, u32)>,
         /// Also write a tone-mapped PNG preview.
         #[arg(long)]
         preview: Option<PathBuf>,
@@ -97,6 +101,16 @@ enum Command {
         /// Write a false-colour PNG of the relative luminance difference (red: brighter).
         #[arg(long)]
         diff: Option<PathBuf>,
+    },
+    /// Merge independent renders of one scene (e.g. `--shard K/N` shards) into one image,
+    /// weighting every pixel by its sample counts.
+    Merge {
+        /// The renders.
+        #[arg(required = true)]
+        inputs: Vec<PathBuf>,
+        /// The merged EXR.
+        #[arg(short, long)]
+        output: PathBuf,
     },
     /// Benchmarks.
     Bench {
@@ -223,6 +237,25 @@ fn bench(cmd: BenchCommand) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Parses `K/N` for `--shard`.
+fn parse_shard(s: &str) -> Result<(u32, u32), String> {
+    let (k, n) = s.split_once('/').ok_or("expected K/N, e.g. 0/4")?;
+    let (k, n): (u32, u32) =
+        (k.trim().parse().map_err(|_| "K is not a number")?, n.trim().parse().map_err(|_| "N is not a number")?);
+    if n == 0 || k >= n {
+        return Err(format!("{k}/{n}: need 0 <= K < N"));
+    }
+    Ok((k, n))
+}
+
+/// True when both paths name the same existing file.
+fn same_file(a: &std::path::Path, b: &std::path::Path) -> bool {
+    match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    }
+}
+
 fn run() -> anyhow::Result<()> {
     let cli = Cli::parse();
     match cli.command {
@@ -246,6 +279,7 @@ fn run() -> anyhow::Result<()> {
             cone,
             radius,
             alpha,
+            shard,
             preview,
             quiet,
         } => {
@@ -271,11 +305,15 @@ fn run() -> anyhow::Result<()> {
                     radius,
                     alpha,
                 },
+                shard,
             };
             let out = render_desc(&desc, &ov, !quiet)?;
             let exr = output.unwrap_or_else(|| {
                 PathBuf::from(scene.file_stem().map_or("out".into(), |s| s.to_string_lossy().into_owned()) + ".exr")
             });
+            if same_file(&scene, &exr) || preview.as_ref().is_some_and(|p| same_file(&scene, p)) {
+                anyhow::bail!("{}: the output would overwrite the scene file", exr.display());
+            }
             write_outputs(&out, &exr, preview.as_ref())?;
             if out.result.interrupted {
                 eprintln!("interrupted: wrote the partial image {} ({} spp)", exr.display(), out.result.spp);
@@ -310,6 +348,15 @@ fn run() -> anyhow::Result<()> {
             if let Some(p) = diff {
                 quasar::compare::write_difference_png(&a, &r, &p).map_err(anyhow::Error::msg)?;
             }
+            Ok(())
+        }
+        Command::Merge { inputs, output } => {
+            if inputs.iter().any(|i| same_file(i, &output)) {
+                anyhow::bail!("{}: the output is one of the inputs", output.display());
+            }
+            let images = inputs.iter().map(|p| quasar::output::read_exr(p)).collect::<Result<Vec<_>, _>>()?;
+            let merged = quasar::merge::merge(&images).map_err(anyhow::Error::msg)?;
+            quasar::output::write_exr_atomic(&merged, &output)?;
             Ok(())
         }
         Command::Bench { what } => bench(what),

@@ -33,6 +33,9 @@ pub struct RenderOptions {
     pub pt: PtSettings,
     /// Show a progress bar on stderr.
     pub progress: bool,
+    /// Render only share `k` of `n` (`--shard K/N`): the samples whose index is k mod n, so that
+    /// shards of one render have disjoint random streams and merge into the full render.
+    pub shard: (u32, u32),
 }
 
 impl Default for RenderOptions {
@@ -45,6 +48,7 @@ impl Default for RenderOptions {
             threads: None,
             pt: PtSettings::default(),
             progress: false,
+            shard: (0, 1),
         }
     }
 }
@@ -91,7 +95,9 @@ fn render_in_pool(scene: &Scene, camera: &Camera, opts: &RenderOptions, threads:
     let (w, h) = (camera.width(), camera.height());
     let start = Instant::now();
     let mut film = Film::new(w, h);
-    let spp_total = opts.spp.max(1);
+    // this shard's samples: global indices shard_k + shard_n * s below the requested count
+    let (shard_k, shard_n) = (opts.shard.0, opts.shard.1.max(1));
+    let spp_total = opts.spp.max(1).saturating_sub(shard_k).div_ceil(shard_n).max(1);
     let bar = progress_bar(opts.progress, w as u64 * h as u64 * spp_total as u64);
     let mut done = 0u32;
     let mut pass = 1u32;
@@ -106,7 +112,7 @@ fn render_in_pool(scene: &Scene, camera: &Camera, opts: &RenderOptions, threads:
             }
             for (x, acc) in row.iter_mut().enumerate() {
                 for s in done..done + n {
-                    sample_pixel(scene, camera, opts, x as u32, y as u32, s, acc);
+                    sample_pixel(scene, camera, opts, x as u32, y as u32, shard_k + shard_n * s, acc);
                 }
             }
             if let Some(b) = &bar {

@@ -124,3 +124,37 @@ fn interrupted_render_writes_a_valid_partial_exr() {
         assert!(img.channel("spp.Y").unwrap().iter().all(|&n| n >= spp as f32));
     }
 }
+
+/// `--shard K/N` on the command line and `quasar merge` give one EXR with the full sample count;
+/// merging onto an input and rendering onto the scene file are refused.
+#[test]
+fn shard_and_merge_commands() {
+    let s = write_scene(GOOD, &[]);
+    let shard = |k: u32| {
+        let out = s.dir.path().join(format!("s{k}.exr"));
+        let st = quasar()
+            .args(["render", "--quiet", "--spp", "6", "--shard", &format!("{k}/3")])
+            .arg(&s.path)
+            .arg("-o")
+            .arg(&out)
+            .status()
+            .unwrap();
+        assert!(st.success());
+        out
+    };
+    let parts: Vec<_> = (0..3).map(shard).collect();
+    let merged = s.dir.path().join("merged.exr");
+    let st = quasar().arg("merge").args(&parts).arg("-o").arg(&merged).status().unwrap();
+    assert!(st.success());
+    let img = quasar::output::read_exr(&merged).unwrap();
+    assert_eq!(img.meta("spp"), Some("6"));
+    assert!(img.channel("spp.Y").unwrap().iter().all(|&n| n == 6.0));
+    let o = quasar().arg("merge").args(&parts).arg("-o").arg(&parts[0]).output().unwrap();
+    assert!(!o.status.success());
+    let o = quasar().args(["render", "--quiet", "--shard", "3/3"]).arg(&s.path).output().unwrap();
+    assert!(!o.status.success());
+    let o = quasar().args(["render", "--quiet"]).arg(&s.path).arg("-o").arg(&s.path).output().unwrap();
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("overwrite the scene"));
+    assert!(std::fs::read_to_string(&s.path).unwrap().contains("[render]"));
+}

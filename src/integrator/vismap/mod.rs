@@ -152,6 +152,9 @@ pub struct VismapRun {
     pub target_error: Option<f64>,
     /// Show a progress bar.
     pub progress: bool,
+    /// Render only iterations k with (k - 1) mod n = share (`--shard K/N`); pilot paths of every
+    /// iteration are still traced, so adaptive depths match the unsharded render.
+    pub shard: (u32, u32),
 }
 
 /// Renders `scene` with a bidirectional method. Deterministic for a seed: every camera path,
@@ -234,16 +237,20 @@ fn render_in_pool(
     let cone_cos = settings.cone_deg.map(|d| d.clamp(0.0, 90.0).to_radians().cos());
     let base_rule = GatherRule { depth: 0, cone_cos, max_specular: settings.max_specular };
     let iterations = settings.iterations.max(1);
-    let bar = progress_bar(run.progress, iterations as u64);
+    let bar = progress_bar(run.progress, iterations.div_ceil(run.shard.1.max(1)) as u64);
     let mut stats = VismapStats::default();
     let mut histogram = DepthHistogram::new(n_pixels);
     let mut depth_sum = vec![0u64; n_pixels];
     let mut depth_count = vec![0u32; n_pixels];
     let mut done = 0;
     let mut interrupted = false;
+    let (shard_k, shard_n) = (run.shard.0, run.shard.1.max(1));
     for k in 1..=iterations {
         let wl = SampledWavelengths::sample_visible(iteration_wavelength_u(run.seed, k));
         let depths = iteration_depths(scene, camera, settings, &base_rule, wl, run.seed, k, &mut histogram);
+        if (k - 1) % shard_n != shard_k {
+            continue;
+        }
         // backward pass
         let paths: Vec<CameraPathResult> = (0..n_pixels)
             .into_par_iter()
@@ -300,7 +307,7 @@ fn render_in_pool(
             }
         }
         film.pixels.par_iter_mut().zip(estimates.par_iter()).for_each(|(px, (l, wl))| px.add(l, wl));
-        done = k;
+        done += 1;
         if let Some(b) = &bar {
             b.inc(1);
         }
@@ -313,7 +320,7 @@ fn render_in_pool(
         }
         if let Some(limit) = run.time_limit {
             let elapsed = start.elapsed().as_secs_f64();
-            if elapsed + elapsed / k as f64 >= limit {
+            if elapsed + elapsed / done as f64 >= limit {
                 break;
             }
         }

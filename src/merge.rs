@@ -1,0 +1,100 @@
+//! `quasar merge`: combines independent renders of one scene (shards of a render, or renders with
+//! different seeds) into one image, exactly as if their samples had been accumulated together:
+//! every mean channel is the per-pixel average weighted by the sample (iteration) counts of
+//! `spp.Y`, `spp.Y` is their sum, and `stderr.Y` is recomputed from the pooled sums of squares.
+
+use crate::film::Channel;
+use crate::output::ExrImage;
+
+/// Header keys that must agree between the merged images (they change what a sample means).
+const MUST_AGREE: [&str; 8] =
+    ["method", "width", "height", "max_depth", "photons_per_iteration", "gather_depth", "cone_deg", "alpha"];
+
+/// Header keys summed over the inputs.
+const SUMMED: [&str; 4] = ["spp", "iterations", "photons", "render_time_s"];
+
+/// Merges `images` (at least one). Errors name the first disagreement.
+pub fn merge(images: &[ExrImage]) -> Result<ExrImage, String> {
+    let first = images.first().ok_or("nothing to merge")?;
+    let n_px = first.width * first.height;
+    for (i, img) in images.iter().enumerate() {
+        if (img.width, img.height) != (first.width, first.height) {
+            return Err(format!("image {i} is {}x{}, image 0 {}x{}", img.width, img.height, first.width, first.height));
+        }
+        for key in MUST_AGREE {
+            if img.meta(key) != first.meta(key) {
+                return Err(format!(
+                    "image {i} has {key} = {:?}, image 0 {:?}: renders of different settings do not merge",
+                    img.meta(key),
+                    first.meta(key)
+                ));
+            }
+        }
+        if img.channel("spp.Y").is_none() || img.channel("Y").is_none() {
+            return Err(format!("image {i} has no spp.Y or Y channel (not a quasar render?)"));
+        }
+        for c in &first.channels {
+            if img.channel(&c.name).is_none() {
+                return Err(format!("image {i} has no channel {}", c.name));
+            }
+        }
+    }
+    let counts: Vec<&[f32]> = images.iter().map(|img| img.channel("spp.Y").unwrap_or_default()).collect();
+    let total: Vec<f64> = (0..n_px).map(|p| counts.iter().map(|c| c[p] as f64).sum()).collect();
+    let weighted = |name: &str| -> Vec<f64> {
+        (0..n_px)
+            .map(|p| {
+                if total[p] <= 0.0 {
+                    return 0.0;
+                }
+                let sum: f64 = images
+                    .iter()
+                    .zip(&counts)
+                    .map(|(img, n)| img.channel(name).unwrap_or_default()[p] as f64 * n[p] as f64)
+                    .sum();
+                sum / total[p]
+            })
+            .collect()
+    };
+    let mean_y = weighted("Y");
+    let mut channels = Vec::new();
+    for c in &first.channels {
+        let values: Vec<f32> = match c.name.as_str() {
+            "spp.Y" => total.iter().map(|&t| t as f32).collect(),
+            "depth.Z" => c.values.clone(),
+            "stderr.Y" => (0..n_px)
+                .map(|p| {
+                    // per image: sum y^2 = (n - 1) n se^2 + n m^2
+                    let mut sq = 0.0f64;
+                    for (img, n) in images.iter().zip(&counts) {
+                        let (n, m) = (n[p] as f64, img.channel("Y").unwrap_or_default()[p] as f64);
+                        let se = img.channel("stderr.Y").unwrap_or_default()[p] as f64;
+                        sq += (n - 1.0).max(0.0) * n * se * se + n * m * m;
+                    }
+                    let nt = total[p];
+                    if nt < 2.0 {
+                        return 0.0;
+                    }
+                    let var = ((sq - nt * mean_y[p] * mean_y[p]) / (nt - 1.0)).max(0.0);
+                    (var / nt).sqrt() as f32
+                })
+                .collect(),
+            "Y" => mean_y.iter().map(|&v| v as f32).collect(),
+            name => weighted(name).iter().map(|&v| v as f32).collect(),
+        };
+        channels.push(Channel { name: c.name.clone(), values });
+    }
+    let mut metadata: Vec<(String, String)> = first.metadata.clone();
+    for (k, v) in metadata.iter_mut() {
+        if SUMMED.contains(&k.as_str()) {
+            let sum: f64 = images.iter().filter_map(|img| img.meta(k)?.parse::<f64>().ok()).sum();
+            *v = if k == "render_time_s" { format!("{sum:.3}") } else { format!("{sum}") };
+        } else if k == "partial" {
+            *v = images.iter().any(|img| img.meta("partial") == Some("true")).to_string();
+        } else if k == "shard" {
+            *v = "merged".into();
+        }
+    }
+    metadata.push(("merged_from".into(), images.len().to_string()));
+    Ok(ExrImage { width: first.width, height: first.height, channels, metadata })
+}

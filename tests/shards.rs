@@ -1,0 +1,69 @@
+//! Distributed rendering: `--shard K/N` renders disjoint shares of the samples (iterations) and
+//! `quasar merge` combines them into the full render — equal up to float summation order (the
+//! merge averages per-shard means weighted by their counts instead of summing the samples in one
+//! pass), for pt and for the bidirectional methods.
+
+mod common;
+
+use std::path::Path;
+
+use common::render_file;
+use quasar::job::JobOverrides;
+use quasar::method::BidirectionalOptions;
+use quasar::output::ExrImage;
+
+fn scene() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/glass-plate/glass-plate.toml")
+}
+
+fn ov(method: &str, shard: Option<(u32, u32)>) -> JobOverrides {
+    JobOverrides {
+        width: Some(24),
+        height: Some(18),
+        spp: Some(8),
+        seed: Some(17),
+        method: Some(method.into()),
+        bidir: if method == "pt" {
+            BidirectionalOptions::default()
+        } else {
+            BidirectionalOptions { photons_per_iteration: Some(3000), ..Default::default() }
+        },
+        shard,
+        ..Default::default()
+    }
+}
+
+fn assert_close(merged: &ExrImage, full: &ExrImage, what: &str) {
+    for c in &full.channels {
+        let m = merged.channel(&c.name).unwrap_or_else(|| panic!("{what}: no {}", c.name));
+        for (i, (&a, &b)) in m.iter().zip(&c.values).enumerate() {
+            let tol = if c.name == "stderr.Y" { 1e-3 } else { 2e-5 } * b.abs().max(1e-3);
+            assert!((a - b).abs() <= tol || (a.is_infinite() && a == b), "{what}: {} pixel {i}: {a} vs {b}", c.name);
+        }
+    }
+}
+
+#[test]
+fn four_shards_merge_into_the_full_render() {
+    for method in ["pt", "vismap", "adaptive+quasi"] {
+        let full = render_file(&scene(), &ov(method, None)).image;
+        let shards: Vec<ExrImage> = (0..4).map(|k| render_file(&scene(), &ov(method, Some((k, 4)))).image).collect();
+        for s in &shards {
+            assert_eq!(s.meta("spp"), Some("2"), "{method}");
+        }
+        let merged = quasar::merge::merge(&shards).unwrap();
+        assert_eq!(merged.meta("spp"), Some("8"));
+        assert_eq!(merged.meta("merged_from"), Some("4"));
+        assert_close(&merged, &full, method);
+    }
+}
+
+#[test]
+fn merge_refuses_mismatched_renders() {
+    let a = render_file(&scene(), &ov("pt", Some((0, 2)))).image;
+    let b = render_file(&scene(), &ov("vismap", Some((1, 2)))).image;
+    assert!(quasar::merge::merge(&[a.clone(), b]).unwrap_err().contains("method"));
+    let c = render_file(&scene(), &JobOverrides { width: Some(12), ..ov("pt", None) }).image;
+    assert!(quasar::merge::merge(&[a, c]).is_err());
+    assert!(quasar::merge::merge(&[]).is_err());
+}
