@@ -31,7 +31,15 @@ fn photon_throughput(scene_path: &str) {
                 depth: GatherDepth::Fixed(depth),
                 ..VismapSettings::default()
             };
-            let run = VismapRun { seed: 1, time_limit: None, target_error: None, progress: false, shard: (0, 1) };
+            let run = VismapRun {
+                seed: 1,
+                time_limit: None,
+                target_error: None,
+                progress: false,
+                shard: (0, 1),
+                resume: None,
+                checkpoint: None,
+            };
             let t = Instant::now();
             let (result, stats) = vismap::render(&scene, &camera, &settings, &run, threads);
             let total = t.elapsed().as_secs_f64();

@@ -72,7 +72,7 @@ impl PixelSum {
 }
 
 /// An image of pixel sums, row-major, row 0 at the top.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Film {
     /// Width in pixels.
     pub width: u32,

@@ -42,6 +42,10 @@ pub struct JobOverrides {
     pub bidir: BidirectionalOptions,
     /// Render share k of n of the samples / iterations (`--shard K/N`, merged by `quasar merge`).
     pub shard: Option<(u32, u32)>,
+    /// Write checkpoints to this file.
+    pub checkpoint: Option<PathBuf>,
+    /// Continue the render stored in this checkpoint.
+    pub resume: Option<PathBuf>,
 }
 
 /// A finished render with everything needed to write it.
@@ -103,6 +107,28 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     } else {
         None
     };
+    // what must match for a resume: the scene and every setting but the sample budget
+    let bidir_fp = bidir.map(|mut v| {
+        v.iterations = 0;
+        format!("{v:?}")
+    });
+    let fingerprint = crate::checkpoint::Fingerprint::of(&[
+        desc,
+        &resolved.name(),
+        &(width, height, seed, max_depth, shard),
+        &bidir_fp,
+    ]);
+    let resume = match &ov.resume {
+        Some(p) => {
+            let st = crate::checkpoint::read(p, fingerprint).map_err(anyhow::Error::msg)?;
+            if (st.film.width, st.film.height) != (width, height) {
+                bail!("{}: checkpoint of a {}x{} render", p.display(), st.film.width, st.film.height);
+            }
+            Some(st)
+        }
+        None => None,
+    };
+    let checkpoint = ov.checkpoint.clone().map(|p| (p, fingerprint));
     let opts = RenderOptions {
         spp: if open_ended { ov.spp.unwrap_or(u32::MAX / 2) } else { spp },
         time_limit: time_s,
@@ -112,12 +138,14 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         threads: ov.threads,
         pt: PtSettings { max_depth, ..PtSettings::default() },
         progress,
+        resume: resume.clone(),
+        checkpoint: checkpoint.clone(),
     };
     let threads = opts.threads.unwrap_or_else(rayon::current_num_threads).max(1);
     let mut metadata = Vec::new();
     let result = match bidir {
         Some(v) => {
-            let run = VismapRun { seed, time_limit: time_s, target_error, progress, shard };
+            let run = VismapRun { seed, time_limit: time_s, target_error, progress, shard, resume, checkpoint };
             let (result, stats) = vismap::render(&scene, &camera, &v, &run, threads);
             let depth = match v.depth {
                 GatherDepth::Fixed(d) => d.to_string(),

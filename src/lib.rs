@@ -8,6 +8,7 @@
 
 pub mod analysis;
 pub mod camera;
+pub mod checkpoint;
 pub mod compare;
 pub mod convergence;
 pub mod film;

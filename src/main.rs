@@ -82,6 +82,13 @@ enum Command {
         /// from the other shares; `quasar merge` combines the shards into the full render.
         #[arg(long, value_parser = parse_shard)]
         shard: Option<(u32, u32)>,
+        /// Write the accumulated state to this file periodically and at the end.
+        #[arg(long)]
+        checkpoint: Option<PathBuf>,
+        /// Continue the render stored in this checkpoint (same scene and settings; a larger
+        /// --spp / --iterations or a new --time extends it).
+        #[arg(long)]
+        resume: Option<PathBuf>,
         /// Also write a tone-mapped PNG preview.
         #[arg(long)]
         preview: Option<PathBuf>,
@@ -280,6 +287,8 @@ fn run() -> anyhow::Result<()> {
             radius,
             alpha,
             shard,
+            checkpoint,
+            resume,
             preview,
             quiet,
         } => {
@@ -306,6 +315,8 @@ fn run() -> anyhow::Result<()> {
                     alpha,
                 },
                 shard,
+                checkpoint,
+                resume,
             };
             let out = render_desc(&desc, &ov, !quiet)?;
             let exr = output.unwrap_or_else(|| {

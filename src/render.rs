@@ -36,7 +36,14 @@ pub struct RenderOptions {
     /// Render only share `k` of `n` (`--shard K/N`): the samples whose index is k mod n, so that
     /// shards of one render have disjoint random streams and merge into the full render.
     pub shard: (u32, u32),
+    /// Continue from this state (`--resume`).
+    pub resume: Option<crate::checkpoint::RenderState>,
+    /// Write checkpoints here, with this fingerprint (`--checkpoint`).
+    pub checkpoint: Option<(std::path::PathBuf, u64)>,
 }
+
+/// Seconds between two checkpoint writes (one is always written when the render completes).
+pub const CHECKPOINT_INTERVAL_S: f64 = 30.0;
 
 impl Default for RenderOptions {
     fn default() -> Self {
@@ -49,6 +56,8 @@ impl Default for RenderOptions {
             pt: PtSettings::default(),
             progress: false,
             shard: (0, 1),
+            resume: None,
+            checkpoint: None,
         }
     }
 }
@@ -94,12 +103,15 @@ pub fn render(scene: &Scene, camera: &Camera, opts: &RenderOptions) -> RenderRes
 fn render_in_pool(scene: &Scene, camera: &Camera, opts: &RenderOptions, threads: usize) -> RenderResult {
     let (w, h) = (camera.width(), camera.height());
     let start = Instant::now();
-    let mut film = Film::new(w, h);
+    let (mut film, mut done) = match &opts.resume {
+        Some(st) => (st.film.clone(), st.done),
+        None => (Film::new(w, h), 0u32),
+    };
+    let mut last_checkpoint = Instant::now();
     // this shard's samples: global indices shard_k + shard_n * s below the requested count
     let (shard_k, shard_n) = (opts.shard.0, opts.shard.1.max(1));
     let spp_total = opts.spp.max(1).saturating_sub(shard_k).div_ceil(shard_n).max(1);
     let bar = progress_bar(opts.progress, w as u64 * h as u64 * spp_total as u64);
-    let mut done = 0u32;
     let mut pass = 1u32;
     let mut interrupted = false;
     while done < spp_total {
@@ -130,6 +142,12 @@ fn render_in_pool(scene: &Scene, camera: &Camera, opts: &RenderOptions, threads:
         if opts.target_error.is_some_and(|e| film.estimated_rel_error() <= e) {
             break;
         }
+        if let Some((path, fingerprint)) = &opts.checkpoint
+            && last_checkpoint.elapsed().as_secs_f64() >= CHECKPOINT_INTERVAL_S
+        {
+            write_checkpoint(path, *fingerprint, &film, done);
+            last_checkpoint = Instant::now();
+        }
         let elapsed = start.elapsed().as_secs_f64();
         if let Some(limit) = opts.time_limit {
             let per_spp = elapsed / done as f64;
@@ -145,6 +163,12 @@ fn render_in_pool(scene: &Scene, camera: &Camera, opts: &RenderOptions, threads:
     if let Some(b) = bar {
         b.finish_and_clear();
     }
+    // an interrupted pass gave some pixels samples beyond `done`: the last checkpoint stands
+    if let Some((path, fingerprint)) = &opts.checkpoint
+        && !interrupted
+    {
+        write_checkpoint(path, *fingerprint, &film, done);
+    }
     let depth = depth_pass(scene, camera);
     RenderResult {
         film,
@@ -154,6 +178,21 @@ fn render_in_pool(scene: &Scene, camera: &Camera, opts: &RenderOptions, threads:
         spp: done,
         seconds: start.elapsed().as_secs_f64(),
         threads,
+    }
+}
+
+/// Writes a pt checkpoint; a failure is reported and the render goes on.
+fn write_checkpoint(path: &std::path::Path, fingerprint: u64, film: &Film, done: u32) {
+    let state = crate::checkpoint::RenderState {
+        film: film.clone(),
+        done,
+        next: done,
+        histogram: Vec::new(),
+        depth_sum: Vec::new(),
+        depth_count: Vec::new(),
+    };
+    if let Err(e) = crate::checkpoint::write(path, fingerprint, &state) {
+        eprintln!("warning: checkpoint not written: {e}");
     }
 }
 

@@ -67,3 +67,32 @@ fn merge_refuses_mismatched_renders() {
     assert!(quasar::merge::merge(&[a, c]).is_err());
     assert!(quasar::merge::merge(&[]).is_err());
 }
+
+/// A render stopped and resumed from its checkpoint equals the uninterrupted render bit for bit,
+/// for pt and for the adaptive+quasi method (whose depth histograms are part of the state); a
+/// checkpoint of other settings is refused.
+#[test]
+fn resume_equals_the_uninterrupted_render() {
+    let dir = tempfile::tempdir().unwrap();
+    for method in ["pt", "adaptive+quasi"] {
+        let cp = dir.path().join(format!("{method}.ckpt"));
+        let full = render_file(&scene(), &ov(method, None)).image;
+        let first = JobOverrides { spp: Some(3), checkpoint: Some(cp.clone()), ..ov(method, None) };
+        render_file(&scene(), &first);
+        let rest = JobOverrides { resume: Some(cp.clone()), ..ov(method, None) };
+        let resumed = render_file(&scene(), &rest).image;
+        assert_eq!(resumed.meta("spp"), Some("8"), "{method}");
+        for c in &full.channels {
+            let r = resumed.channel(&c.name).unwrap();
+            assert!(c.values.iter().zip(r).all(|(a, b)| a.to_bits() == b.to_bits()), "{method}: {}", c.name);
+        }
+        let other_seed = JobOverrides { seed: Some(18), resume: Some(cp.clone()), ..ov(method, None) };
+        let desc = quasar::job::load_scene(&scene()).unwrap();
+        let err = quasar::job::render_desc(&desc, &other_seed, false).err().unwrap();
+        assert!(format!("{err:#}").contains("another scene or other render settings"), "{err:#}");
+    }
+    std::fs::write(dir.path().join("bad.ckpt"), b"QSRCKPT1garbage").unwrap();
+    let desc = quasar::job::load_scene(&scene()).unwrap();
+    let bad = JobOverrides { resume: Some(dir.path().join("bad.ckpt")), ..ov("pt", None) };
+    assert!(quasar::job::render_desc(&desc, &bad, false).is_err());
+}

@@ -141,7 +141,7 @@ pub struct VismapStats {
 }
 
 /// Options of a `vismap` render that are not method settings.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct VismapRun {
     /// Seed of every random stream.
     pub seed: u64,
@@ -155,6 +155,10 @@ pub struct VismapRun {
     /// Render only iterations k with (k - 1) mod n = share (`--shard K/N`); pilot paths of every
     /// iteration are still traced, so adaptive depths match the unsharded render.
     pub shard: (u32, u32),
+    /// Continue from this state (`--resume`).
+    pub resume: Option<crate::checkpoint::RenderState>,
+    /// Write checkpoints here, with this fingerprint (`--checkpoint`).
+    pub checkpoint: Option<(std::path::PathBuf, u64)>,
 }
 
 /// Renders `scene` with a bidirectional method. Deterministic for a seed: every camera path,
@@ -243,9 +247,25 @@ fn render_in_pool(
     let mut depth_sum = vec![0u64; n_pixels];
     let mut depth_count = vec![0u32; n_pixels];
     let mut done = 0;
+    let mut first = 1;
+    if let Some(st) = &run.resume {
+        film = st.film.clone();
+        done = st.done;
+        first = st.next.max(1);
+        if st.histogram.len() == n_pixels {
+            histogram.counts.clone_from(&st.histogram);
+        }
+        if st.depth_sum.len() == n_pixels {
+            depth_sum.clone_from(&st.depth_sum);
+            depth_count.clone_from(&st.depth_count);
+        }
+    }
+    let mut last_checkpoint = Instant::now();
     let mut interrupted = false;
+    let mut next = first;
     let (shard_k, shard_n) = (run.shard.0, run.shard.1.max(1));
-    for k in 1..=iterations {
+    for k in first..=iterations {
+        next = k + 1;
         let wl = SampledWavelengths::sample_visible(iteration_wavelength_u(run.seed, k));
         let depths = iteration_depths(scene, camera, settings, &base_rule, wl, run.seed, k, &mut histogram);
         if (k - 1) % shard_n != shard_k {
@@ -311,6 +331,20 @@ fn render_in_pool(
         if let Some(b) = &bar {
             b.inc(1);
         }
+        let state = |film: &Film| crate::checkpoint::RenderState {
+            film: film.clone(),
+            done,
+            next: k + 1,
+            histogram: histogram.counts.clone(),
+            depth_sum: depth_sum.clone(),
+            depth_count: depth_count.clone(),
+        };
+        if let Some((path, fingerprint)) = &run.checkpoint
+            && last_checkpoint.elapsed().as_secs_f64() >= crate::render::CHECKPOINT_INTERVAL_S
+        {
+            write_state(path, *fingerprint, &state(&film));
+            last_checkpoint = Instant::now();
+        }
         if crate::interrupt::requested() {
             interrupted = true;
             break;
@@ -328,6 +362,18 @@ fn render_in_pool(
     if let Some(b) = bar {
         b.finish_and_clear();
     }
+    // the bidirectional methods stop between iterations: the state is always consistent
+    if let Some((path, fingerprint)) = &run.checkpoint {
+        let state = crate::checkpoint::RenderState {
+            film: film.clone(),
+            done,
+            next,
+            histogram: histogram.counts.clone(),
+            depth_sum: depth_sum.clone(),
+            depth_count: depth_count.clone(),
+        };
+        write_state(path, *fingerprint, &state);
+    }
     let depth = depth_pass(scene, camera);
     let trace_depth =
         depth_sum.iter().zip(&depth_count).map(|(&s, &c)| if c > 0 { s as f32 / c as f32 } else { 0.0 }).collect();
@@ -335,6 +381,13 @@ fn render_in_pool(
     let result =
         RenderResult { film, depth, extra, interrupted, spp: done, seconds: start.elapsed().as_secs_f64(), threads };
     (result, stats)
+}
+
+/// Writes a checkpoint; a failure is reported and the render goes on.
+fn write_state(path: &std::path::Path, fingerprint: u64, state: &crate::checkpoint::RenderState) {
+    if let Err(e) = crate::checkpoint::write(path, fingerprint, state) {
+        eprintln!("warning: checkpoint not written: {e}");
+    }
 }
 
 /// L^I of one visibility point by photon class.
