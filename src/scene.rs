@@ -76,6 +76,18 @@ impl SurfaceInteraction {
     }
 }
 
+/// A key equal for the same triangle with any rotation of its vertices (same orientation).
+fn triangle_key(v: &[Vec3; 3]) -> [u32; 9] {
+    let bits = |p: Vec3| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+    let r = [bits(v[0]), bits(v[1]), bits(v[2])];
+    let first = (0..3).min_by_key(|&i| r[i]).unwrap_or(0);
+    let mut k = [0u32; 9];
+    for j in 0..3 {
+        k[3 * j..3 * j + 3].copy_from_slice(&r[(first + j) % 3]);
+    }
+    k
+}
+
 /// The render-time scene.
 pub struct Scene {
     /// Triangles and BVH.
@@ -100,7 +112,7 @@ pub struct Scene {
     pub center: Vec3,
     /// Radius of the bounding sphere.
     pub radius: f32,
-    /// Number of triangles that were dropped because a vertex was not finite.
+    /// Number of triangles that were dropped because a vertex was not finite or the area is 0.
     pub dropped_triangles: usize,
 }
 
@@ -114,6 +126,7 @@ impl Scene {
         let mut emissions = Vec::new();
         let mut lights = Vec::new();
         let mut dropped = 0usize;
+        let mut seen = std::collections::HashSet::new();
         let mut lo = Vec3::splat(f32::INFINITY);
         let mut hi = Vec3::splat(f32::NEG_INFINITY);
         for (mi, m) in desc.meshes.iter().enumerate() {
@@ -142,7 +155,16 @@ impl Scene {
                     }
                     v[k] = m.positions[i];
                 }
-                if !v.iter().all(|p| p.is_finite()) {
+                // non-finite or zero-area (in f32) triangles can never be hit (the intersection
+                // determinant is 0) or sampled; left in, masses of them (a sphere of radius 1e-45)
+                // make the BVH build quadratic
+                if !v.iter().all(|p| p.is_finite()) || (v[1] - v[0]).cross(v[2] - v[0]) == Vec3::ZERO {
+                    dropped += 1;
+                    continue;
+                }
+                // an exact copy of a triangle already in the scene adds nothing (z-fighting at
+                // best) and masses of them make the BVH build quadratic
+                if !seen.insert(triangle_key(&v)) {
                     dropped += 1;
                     continue;
                 }
