@@ -107,17 +107,22 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     } else {
         None
     };
-    // what must match for a resume: the scene and every setting but the sample budget
-    let bidir_fp = bidir.map(|mut v| {
-        v.iterations = 0;
-        format!("{v:?}")
-    });
-    let fingerprint = crate::checkpoint::Fingerprint::of(&[
-        desc,
-        &resolved.name(),
-        &(width, height, seed, max_depth, shard),
-        &bidir_fp,
-    ]);
+    // what must match for a resume: the scene and every setting but the sample budget (hashed
+    // only when checkpoints are used: it walks the whole scene description)
+    let fingerprint = if ov.resume.is_some() || ov.checkpoint.is_some() {
+        let bidir_fp = bidir.map(|mut v| {
+            v.iterations = 0;
+            format!("{v:?}")
+        });
+        crate::checkpoint::Fingerprint::of(&[
+            desc,
+            &resolved.name(),
+            &(width, height, seed, max_depth, shard),
+            &bidir_fp,
+        ])
+    } else {
+        0
+    };
     let resume = match &ov.resume {
         Some(p) => {
             let st = crate::checkpoint::read(p, fingerprint).map_err(anyhow::Error::msg)?;
