@@ -112,6 +112,14 @@ pub fn write(path: &Path, fingerprint: u64, state: &RenderState) -> Result<(), S
     std::fs::rename(&tmp, path).map_err(err)
 }
 
+/// [`write`], reporting a failure on stderr instead of failing the render (a render must not be
+/// lost because its checkpoint could not be written).
+pub fn save(path: &Path, fingerprint: u64, state: &RenderState) {
+    if let Err(e) = write(path, fingerprint, state) {
+        eprintln!("warning: checkpoint not written: {e}");
+    }
+}
+
 struct Reader<'a> {
     b: &'a [u8],
     at: usize,

@@ -181,7 +181,7 @@ fn render_in_pool(scene: &Scene, camera: &Camera, opts: &RenderOptions, threads:
     }
 }
 
-/// Writes a pt checkpoint; a failure is reported and the render goes on.
+/// Writes a pt checkpoint.
 fn write_checkpoint(path: &std::path::Path, fingerprint: u64, film: &Film, done: u32) {
     let state = crate::checkpoint::RenderState {
         film: film.clone(),
@@ -191,9 +191,7 @@ fn write_checkpoint(path: &std::path::Path, fingerprint: u64, film: &Film, done:
         depth_sum: Vec::new(),
         depth_count: Vec::new(),
     };
-    if let Err(e) = crate::checkpoint::write(path, fingerprint, &state) {
-        eprintln!("warning: checkpoint not written: {e}");
-    }
+    crate::checkpoint::save(path, fingerprint, &state);
 }
 
 /// A progress bar with ETA on stderr over `total` units of work, or None when `show` is false.

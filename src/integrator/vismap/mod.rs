@@ -331,18 +331,10 @@ fn render_in_pool(
         if let Some(b) = &bar {
             b.inc(1);
         }
-        let state = |film: &Film| crate::checkpoint::RenderState {
-            film: film.clone(),
-            done,
-            next: k + 1,
-            histogram: histogram.counts.clone(),
-            depth_sum: depth_sum.clone(),
-            depth_count: depth_count.clone(),
-        };
         if let Some((path, fingerprint)) = &run.checkpoint
             && last_checkpoint.elapsed().as_secs_f64() >= crate::render::CHECKPOINT_INTERVAL_S
         {
-            write_state(path, *fingerprint, &state(&film));
+            write_state(path, *fingerprint, &film, done, k + 1, &histogram, &depth_sum, &depth_count);
             last_checkpoint = Instant::now();
         }
         if crate::interrupt::requested() {
@@ -364,15 +356,7 @@ fn render_in_pool(
     }
     // the bidirectional methods stop between iterations: the state is always consistent
     if let Some((path, fingerprint)) = &run.checkpoint {
-        let state = crate::checkpoint::RenderState {
-            film: film.clone(),
-            done,
-            next,
-            histogram: histogram.counts.clone(),
-            depth_sum: depth_sum.clone(),
-            depth_count: depth_count.clone(),
-        };
-        write_state(path, *fingerprint, &state);
+        write_state(path, *fingerprint, &film, done, next, &histogram, &depth_sum, &depth_count);
     }
     let depth = depth_pass(scene, camera);
     let trace_depth =
@@ -383,11 +367,27 @@ fn render_in_pool(
     (result, stats)
 }
 
-/// Writes a checkpoint; a failure is reported and the render goes on.
-fn write_state(path: &std::path::Path, fingerprint: u64, state: &crate::checkpoint::RenderState) {
-    if let Err(e) = crate::checkpoint::write(path, fingerprint, state) {
-        eprintln!("warning: checkpoint not written: {e}");
-    }
+/// Writes a checkpoint of the state after `done` iterations, next iteration `next`.
+#[allow(clippy::too_many_arguments)]
+fn write_state(
+    path: &std::path::Path,
+    fingerprint: u64,
+    film: &Film,
+    done: u32,
+    next: u32,
+    histogram: &DepthHistogram,
+    depth_sum: &[u64],
+    depth_count: &[u32],
+) {
+    let state = crate::checkpoint::RenderState {
+        film: film.clone(),
+        done,
+        next,
+        histogram: histogram.counts.clone(),
+        depth_sum: depth_sum.to_vec(),
+        depth_count: depth_count.to_vec(),
+    };
+    crate::checkpoint::save(path, fingerprint, &state);
 }
 
 /// L^I of one visibility point by photon class.
