@@ -87,15 +87,7 @@ fn equal_time(scene_path: &str, w: u32, h: u32, reference: &[f32], times: &[f64]
 fn pt_reference(scene_path: &str, w: u32, h: u32, spp: u32) -> Vec<f32> {
     let desc = load_scene(Path::new(scene_path)).expect("scene loads");
     let t = Instant::now();
-    let ov = JobOverrides {
-        width: Some(w),
-        height: Some(h),
-        spp: Some(spp),
-        seed: Some(1000),
-        method: Some("pt".into()),
-        ..Default::default()
-    };
-    let y = render_desc(&desc, &ov, false).unwrap().image.channel("Y").unwrap().to_vec();
+    let y = convergence::pt_reference(&desc, w, h, spp, 1000, false).unwrap();
     println!("{scene_path}: reference pt {w}x{h} {spp} spp in {:.1} s", t.elapsed().as_secs_f64());
     y
 }

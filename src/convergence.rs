@@ -56,6 +56,27 @@ pub fn parse_methods(list: &str) -> Result<Vec<MethodVariant>> {
     Ok(v)
 }
 
+/// The luminance of a `pt` render of `desc` with `spp` samples per pixel at `width` x `height`:
+/// the reference of a convergence comparison.
+pub fn pt_reference(
+    desc: &SceneDesc,
+    width: u32,
+    height: u32,
+    spp: u32,
+    seed: u64,
+    progress: bool,
+) -> Result<Vec<f32>> {
+    let ov = JobOverrides {
+        width: Some(width),
+        height: Some(height),
+        spp: Some(spp),
+        seed: Some(seed),
+        method: Some("pt".into()),
+        ..Default::default()
+    };
+    Ok(render_desc(desc, &ov, progress)?.image.channel("Y").unwrap_or_default().to_vec())
+}
+
 /// One render of a curve.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CurvePoint {

@@ -206,18 +206,10 @@ fn bench(cmd: BenchCommand) -> anyhow::Result<()> {
             (img.width as u32, img.height as u32, y)
         }
         None => {
-            let ov = JobOverrides {
-                width: Some(width),
-                height: Some(height),
-                spp: Some(reference_spp),
-                seed: Some(seed ^ 0x5eed),
-                method: Some("pt".into()),
-                ..Default::default()
-            };
             let t = std::time::Instant::now();
-            let out = render_desc(&desc, &ov, true)?;
+            let y = convergence::pt_reference(&desc, width, height, reference_spp, seed ^ 0x5eed, true)?;
             eprintln!("reference: pt {width}x{height}, {reference_spp} spp, {:.1} s", t.elapsed().as_secs_f64());
-            (width, height, out.image.channel("Y").unwrap_or_default().to_vec())
+            (width, height, y)
         }
     };
     let budgets: Vec<f64> = (0..steps).rev().map(|k| time / 2f64.powi(k as i32)).collect();

@@ -31,12 +31,11 @@ pub fn render_file(path: &Path, ov: &JobOverrides) -> JobOutput {
     render_desc(&desc, ov, false).unwrap_or_else(|e| panic!("{e:#}"))
 }
 
-/// Relative mean squared error of `a` against reference `r` (per pixel (a-r)^2 / (r^2 + eps)),
-/// averaged: the usual relMSE of rendering papers.
+/// Relative mean squared error of `a` against reference `r`: [`quasar::compare::rel_mse`] (the
+/// metric of `quasar compare`), for images of the same size.
 pub fn rel_mse(a: &[f32], r: &[f32]) -> f64 {
     assert_eq!(a.len(), r.len());
-    let eps = 1e-3;
-    a.iter().zip(r).map(|(&a, &r)| ((a - r) as f64).powi(2) / ((r as f64).powi(2) + eps)).sum::<f64>() / a.len() as f64
+    quasar::compare::rel_mse(a, r)
 }
 
 /// Mean of a slice.
