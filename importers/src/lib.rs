@@ -5,6 +5,7 @@
 //! Every error is an [`ImportError`] whose message starts with `file:line:col:`.
 #![warn(missing_docs)]
 
+pub mod bsdf_file;
 pub mod error;
 mod glob;
 pub mod obj;

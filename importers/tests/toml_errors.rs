@@ -134,7 +134,7 @@ fn material_validation_is_reported_at_the_material() {
     let (t, e) = bad_extra("[materials.bad]\nreflectance = 1\n", &[]);
     assert_at(&e, "scene.toml", line_of(&t, "[materials.bad]"), &["missing key `type`"]);
     let (t, e) = bad_extra("[materials.bad]\nfile = \"lightguide.toml\"\n", &[]);
-    assert_at(&e, "scene.toml", line_of(&t, "file ="), &["not supported yet"]);
+    assert_at(&e, "scene.toml", line_of(&t, "file ="), &["does not exist", "lightguide.toml"]);
     let (t, e) = bad_extra("[materials.bad]\ntype = \"diffuse\"\n", &[]);
     assert_at(&e, "scene.toml", line_of(&t, "[materials.bad]"), &["missing key `reflectance`"]);
 }

@@ -9,9 +9,11 @@ pub mod frame;
 pub mod material;
 pub mod non_uniformity;
 pub mod spectrum;
+pub mod tabulated;
 pub mod warp;
 
 pub use bsdf::{Bsdf, BsdfSample, Lobe, TransportMode};
 pub use frame::Frame;
 pub use material::{ConductorFresnel, Ior, Material};
 pub use non_uniformity::NonUniformity;
+pub use tabulated::{TabulatedBsdf, TabulatedSpec, TabulatedTable};

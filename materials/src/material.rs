@@ -1,7 +1,10 @@
 //! Materials: plain data (spectral parameters) that produce a [`Bsdf`] at a path's wavelengths.
 
 use crate::bsdf::{Bsdf, ConductorBsdf, DielectricBsdf, DiffuseBsdf, SampledFresnel, TrowbridgeReitz};
+use std::sync::Arc;
+
 use crate::spectrum::{LAMBDA_MAX, LAMBDA_MIN, SampledWavelengths, Spectrum};
+use crate::tabulated::{TabulatedBsdf, TabulatedTable};
 
 /// Fresnel reflectance model of a conductor.
 #[derive(Clone, Debug, PartialEq)]
@@ -64,6 +67,8 @@ pub enum Material {
         /// GGX alpha (used directly; 0 = smooth).
         alpha: f32,
     },
+    /// Tabulated spectral BRDF/BTDF (validated on load, shared between threads).
+    Tabulated(Arc<TabulatedTable>),
 }
 
 /// Smallest IOR (and |eta + i k|) accepted by [`Material::validate`]: below it 1/eta overflows
@@ -109,7 +114,7 @@ impl Material {
     /// `wl.lambda(0)` and terminates the secondary wavelengths (the refracted direction depends on
     /// the wavelength). Out-of-range parameters (see [`validate`](Self::validate)) are sanitised
     /// rather than propagated: reflectances clamped to [0, 1], bad alpha -> 0, bad IOR -> 1.
-    pub fn bsdf(&self, wl: &mut SampledWavelengths) -> Bsdf {
+    pub fn bsdf(&self, wl: &mut SampledWavelengths) -> Bsdf<'_> {
         match self {
             Material::Diffuse { reflectance, two_sided } => {
                 Bsdf::Diffuse(DiffuseBsdf::new(reflectance.sample(wl), *two_sided))
@@ -131,6 +136,7 @@ impl Material {
                 let eta = if eta.is_finite() && eta > MIN_IOR { eta } else { 1.0 };
                 Bsdf::Dielectric(DielectricBsdf::new(eta, TrowbridgeReitz::new(*alpha)))
             }
+            Material::Tabulated(t) => Bsdf::Tabulated(TabulatedBsdf::new(t, wl)),
         }
     }
 
@@ -174,6 +180,8 @@ impl Material {
                     Ok(())
                 })
             }
+            // Validated when the table was built (TabulatedTable::new).
+            Material::Tabulated(_) => Ok(()),
         }
     }
 
@@ -181,7 +189,7 @@ impl Material {
     /// dielectric with effectively smooth alpha (< 1e-3), or an index-matched (IOR 1) dielectric.
     pub fn is_specular(&self) -> bool {
         match self {
-            Material::Diffuse { .. } => false,
+            Material::Diffuse { .. } | Material::Tabulated(_) => false,
             Material::Conductor { alpha, .. } => TrowbridgeReitz::new(*alpha).effectively_smooth(),
             Material::Dielectric { ior, alpha } => {
                 TrowbridgeReitz::new(*alpha).effectively_smooth() || *ior == Ior::Constant(1.0)

@@ -8,20 +8,24 @@ mod common;
 
 use common::{Chi2, chi2_bsdf, chi2_directions, dir, gamma_q, sidak};
 use glam::Vec3;
+use quasar_materials::TransportMode;
 use quasar_materials::bsdf::{ConductorBsdf, DielectricBsdf, DiffuseBsdf, SampledFresnel, TrowbridgeReitz};
 use quasar_materials::spectrum::SampledSpectrum;
-use quasar_materials::{Bsdf, TransportMode};
+use quasar_materials::spectrum::{SampledWavelengths, Spectrum};
+use quasar_materials::tabulated::ScatterGrid;
+use quasar_materials::tabulated::generate::{GridSpec, Tabulation, material_fn, power_spaced, uniform_phi};
+use quasar_materials::{Bsdf, ConductorFresnel, Ior, Material, TabulatedBsdf, TabulatedTable};
 
 /// Samples per configuration.
 const N: usize = 500_000;
 /// Number of configurations tested below (for the Sidak correction).
-const N_TESTS: usize = 28;
+const N_TESTS: usize = 28 + 9;
 
-fn diffuse(two_sided: bool) -> Bsdf {
+fn diffuse(two_sided: bool) -> Bsdf<'static> {
     Bsdf::Diffuse(DiffuseBsdf::new(SampledSpectrum::splat(0.8), two_sided))
 }
 
-fn conductor(alpha: f32, two_sided: bool) -> Bsdf {
+fn conductor(alpha: f32, two_sided: bool) -> Bsdf<'static> {
     let gold = SampledFresnel::Complex {
         eta: SampledSpectrum([1.4, 0.4, 0.2, 0.15]),
         k: SampledSpectrum([1.9, 2.5, 3.3, 4.5]),
@@ -29,7 +33,7 @@ fn conductor(alpha: f32, two_sided: bool) -> Bsdf {
     Bsdf::Conductor(ConductorBsdf::new(TrowbridgeReitz::new(alpha), gold, two_sided))
 }
 
-fn dielectric(eta: f32, alpha: f32) -> Bsdf {
+fn dielectric(eta: f32, alpha: f32) -> Bsdf<'static> {
     Bsdf::Dielectric(DielectricBsdf::new(eta, TrowbridgeReitz::new(alpha)))
 }
 
@@ -138,4 +142,85 @@ fn chi2_rejects_wrong_pdfs_and_samplers() {
     );
     println!("eta 1.5 sampler vs 1.6 pdf: {wrong_eta:?}");
     assert!(wrong_eta.p < alpha * 1e-3, "{wrong_eta:?}");
+}
+
+fn deg(v: impl IntoIterator<Item = f32>) -> Vec<f32> {
+    v.into_iter().map(f32::to_radians).collect()
+}
+
+/// Tabulated tables of three kinds: an absolute-grid glossy conductor, a specular-relative rough
+/// dielectric (BRDF + BTDF) and an anisotropic lobe.
+fn tables() -> Vec<(&'static str, TabulatedTable)> {
+    let conductor = Material::Conductor {
+        alpha: 0.3,
+        fresnel: ConductorFresnel::Constant(Spectrum::Constant(0.8)),
+        two_sided: true,
+    };
+    let absolute = Tabulation {
+        name: "absolute".into(),
+        wavelengths: vec![450.0, 650.0],
+        theta_i: deg((0..=6).map(|i| i as f32 * 15.0)),
+        phi_i: vec![0.0],
+        ior: None,
+        brdf: Some(GridSpec {
+            grid: ScatterGrid::Absolute,
+            theta: deg((0..=18).map(|i| i as f32 * 5.0)),
+            phi: deg((0..=12).map(|i| i as f32 * 15.0)),
+        }),
+        btdf: None,
+    }
+    .tabulate(material_fn(&conductor));
+    let glass = Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.3 };
+    let spec_grid = GridSpec {
+        grid: ScatterGrid::SpecularRelative,
+        theta: power_spaced(60, std::f32::consts::PI, 1.8),
+        phi: uniform_phi(24),
+    };
+    let specular = Tabulation {
+        name: "specular".into(),
+        wavelengths: vec![550.0],
+        theta_i: deg((0..=8).map(|i| i as f32 * 10.0).chain([85.0])),
+        phi_i: vec![0.0],
+        ior: Some(1.5),
+        brdf: Some(spec_grid.clone()),
+        btdf: Some(spec_grid),
+    }
+    .tabulate(material_fn(&glass));
+    let aniso = Tabulation {
+        name: "anisotropic".into(),
+        wavelengths: vec![550.0],
+        theta_i: deg([0.0, 30.0, 60.0, 85.0]),
+        phi_i: deg([0.0, 90.0, 180.0, 270.0]),
+        ior: None,
+        brdf: Some(GridSpec {
+            grid: ScatterGrid::SpecularRelative,
+            theta: power_spaced(24, 1.2, 1.5),
+            phi: uniform_phi(24),
+        }),
+        btdf: None,
+    }
+    .tabulate(|_, d_in, d_out| {
+        // A lobe around the mirror direction, wider along x than along y (brushed finish).
+        let m = glam::Vec3::new(-d_in.x, -d_in.y, d_in.z);
+        let d = d_out - m;
+        0.5 * (-(d.x / 0.3).powi(2) - (d.y / 0.1).powi(2)).exp()
+    });
+    [("absolute", absolute), ("specular", specular), ("anisotropic", aniso)]
+        .into_iter()
+        .map(|(n, s)| (n, TabulatedTable::new(s).unwrap_or_else(|e| panic!("{n}: {e}"))))
+        .collect()
+}
+
+#[test]
+fn chi2_tabulated() {
+    let mut wl = SampledWavelengths::from_parts([500.0, 550.0, 600.0, 650.0], [1.0; 4]);
+    let mut seed = 900;
+    for (name, t) in tables() {
+        let b = Bsdf::Tabulated(TabulatedBsdf::new(&t, &wl));
+        for cz in [0.9f32, 0.3, -0.6] {
+            seed += 1;
+            check(&format!("tabulated {name} cos={cz}"), chi2_bsdf(&b, dir(cz), N, seed));
+        }
+    }
+    wl.terminate_secondary();
 }

@@ -12,7 +12,7 @@ use quasar_materials::{Bsdf, Lobe, TransportMode};
 
 const MC_SAMPLES: usize = 100_000;
 
-fn white_conductor(alpha: f32) -> Bsdf {
+fn white_conductor(alpha: f32) -> Bsdf<'static> {
     Bsdf::Conductor(ConductorBsdf::new(
         TrowbridgeReitz::new(alpha),
         SampledFresnel::Constant(SampledSpectrum::one()),
@@ -20,7 +20,7 @@ fn white_conductor(alpha: f32) -> Bsdf {
     ))
 }
 
-fn dielectric(eta: f32, alpha: f32) -> Bsdf {
+fn dielectric(eta: f32, alpha: f32) -> Bsdf<'static> {
     Bsdf::Dielectric(DielectricBsdf::new(eta, TrowbridgeReitz::new(alpha)))
 }
 
@@ -46,7 +46,7 @@ fn albedo(b: &Bsdf, wo: Vec3, mode: TransportMode) -> f64 {
 
 #[test]
 fn pdf_integrates_to_the_sampled_fraction() {
-    let mut cases: Vec<(String, Bsdf, f32)> = vec![
+    let mut cases: Vec<(String, Bsdf<'static>, f32)> = vec![
         ("diffuse".into(), Bsdf::Diffuse(DiffuseBsdf::new(SampledSpectrum::splat(0.5), false)), 0.7),
         ("diffuse two-sided".into(), Bsdf::Diffuse(DiffuseBsdf::new(SampledSpectrum::splat(0.5), true)), -0.3),
     ];

@@ -1,4 +1,5 @@
-//! `[materials.NAME]` tables: `type = "diffuse" | "conductor" | "dielectric"`.
+//! `[materials.NAME]` tables: `type = "diffuse" | "conductor" | "dielectric"`, or
+//! `file = "x.toml"` for a tabulated BSDF (see `crate::bsdf_file`).
 
 use quasar_materials::{ConductorFresnel, Ior, Material};
 use toml::de::DeValue;
@@ -28,12 +29,19 @@ fn alpha(t: &Tbl<'_>) -> Result<f32, ImportError> {
 /// Reads the material table `v` named `name`; the result has passed [`Material::validate`].
 pub(crate) fn material(t: &Tbl<'_>) -> Result<Material, ImportError> {
     let doc = t.doc;
-    if t.has("file") {
-        return Err(doc.error(
-            ImportErrorKind::Unsupported,
-            &t.key_span("file"),
-            format!("`{}`: tabulated BSDF material files are not supported yet", t.path),
-        ));
+    if let Some(v) = t.get("file") {
+        t.check_keys(&["file"])?;
+        let name = super::reader::string(doc, v, &t.key_path("file"))?;
+        let path = doc.resolve(name);
+        if !path.is_file() {
+            return Err(doc.error(
+                ImportErrorKind::MissingFile,
+                &v.span(),
+                format!("`{}`: tabulated BSDF file {} does not exist", t.key_path("file"), path.display()),
+            ));
+        }
+        let table = crate::bsdf_file::load_tabulated_bsdf(&path).map_err(|e| e.included_from(doc.place(&v.span())))?;
+        return Ok(Material::Tabulated(table));
     }
     let Some((ty, _)) = t.choice("type", &MATERIAL_TYPES)? else {
         return Err(

@@ -6,7 +6,7 @@
 //! file, line and column of the offending key, value or table.
 
 mod material;
-mod reader;
+pub(crate) mod reader;
 mod settings;
 mod shape;
 mod spectrum;

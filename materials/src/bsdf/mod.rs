@@ -5,6 +5,7 @@
 use glam::Vec3;
 
 use crate::spectrum::SampledSpectrum;
+use crate::tabulated::TabulatedBsdf;
 
 pub mod conductor;
 pub mod dielectric;
@@ -87,9 +88,10 @@ pub(crate) fn refract(wi: Vec3, n: Vec3, eta: f32) -> Option<(Vec3, f32)> {
     wt.is_finite().then_some((wt, eta))
 }
 
-/// A BSDF at one surface point and one set of wavelengths (closed set, enum dispatch).
+/// A BSDF at one surface point and one set of wavelengths (closed set, enum dispatch). It may
+/// borrow a material's table (`'a`), so it lives no longer than the scene's materials.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Bsdf {
+pub enum Bsdf<'a> {
     /// Scatters nothing (f = 0, no samples): the back of one-sided surfaces, absorbers.
     Black,
     /// Lambertian reflection.
@@ -98,12 +100,14 @@ pub enum Bsdf {
     Conductor(ConductorBsdf),
     /// Smooth or GGX-rough dielectric interface.
     Dielectric(DielectricBsdf),
+    /// Tabulated spectral BRDF/BTDF (measured or generated data).
+    Tabulated(TabulatedBsdf<'a>),
 }
 
-impl Bsdf {
+impl Bsdf<'_> {
     /// A BSDF that scatters nothing.
     #[inline]
-    pub fn black() -> Bsdf {
+    pub fn black() -> Bsdf<'static> {
         Bsdf::Black
     }
 
@@ -114,6 +118,7 @@ impl Bsdf {
             Bsdf::Diffuse(b) => b.f(wo, wi),
             Bsdf::Conductor(b) => b.f(wo, wi),
             Bsdf::Dielectric(b) => b.f(wo, wi, mode),
+            Bsdf::Tabulated(b) => b.f(wo, wi, mode),
         }
     }
 
@@ -125,6 +130,7 @@ impl Bsdf {
             Bsdf::Diffuse(b) => b.sample_f(wo, u, mode),
             Bsdf::Conductor(b) => b.sample_f(wo, u, mode),
             Bsdf::Dielectric(b) => b.sample_f(wo, uc, u, mode),
+            Bsdf::Tabulated(b) => b.sample_f(wo, uc, u, mode),
         }
     }
 
@@ -135,6 +141,7 @@ impl Bsdf {
             Bsdf::Diffuse(b) => b.pdf(wo, wi),
             Bsdf::Conductor(b) => b.pdf(wo, wi),
             Bsdf::Dielectric(b) => b.pdf(wo, wi, mode),
+            Bsdf::Tabulated(b) => b.pdf(wo, wi, mode),
         }
     }
 
@@ -142,7 +149,7 @@ impl Bsdf {
     /// [`Bsdf::Black`] has no lobes and reports false (like pbrt-v4's empty flags).
     pub fn is_specular(&self) -> bool {
         match self {
-            Bsdf::Black | Bsdf::Diffuse(_) => false,
+            Bsdf::Black | Bsdf::Diffuse(_) | Bsdf::Tabulated(_) => false,
             Bsdf::Conductor(b) => b.is_specular(),
             Bsdf::Dielectric(b) => b.is_specular(),
         }
@@ -150,7 +157,11 @@ impl Bsdf {
 
     /// True when the BSDF can transmit light to the other side of the surface.
     pub fn has_transmission(&self) -> bool {
-        matches!(self, Bsdf::Dielectric(_))
+        match self {
+            Bsdf::Dielectric(_) => true,
+            Bsdf::Tabulated(b) => b.has_transmission(),
+            _ => false,
+        }
     }
 
     /// The ideal (specular) scattering directions of `wo` in the local frame: the mirror
@@ -163,6 +174,10 @@ impl Bsdf {
             Bsdf::Black | Bsdf::Diffuse(_) => (None, None),
             Bsdf::Conductor(_) => (Some(mirror), None),
             Bsdf::Dielectric(b) => (Some(mirror), refract(wo, Vec3::Z, b.eta).map(|(wt, _)| wt.normalize())),
+            Bsdf::Tabulated(b) => {
+                let t = b.has_transmission().then(|| refract(wo, Vec3::Z, b.eta()).map(|(wt, _)| wt.normalize()));
+                (Some(mirror), t.flatten())
+            }
         }
     }
 }
@@ -202,7 +217,7 @@ mod tests {
     use glam::Vec2;
     use test_util::{SplitMix, random_dir};
 
-    fn all_models() -> Vec<Bsdf> {
+    fn all_models() -> Vec<Bsdf<'static>> {
         let gold = SampledFresnel::Complex {
             eta: SampledSpectrum([1.4, 0.4, 0.2, 0.15]),
             k: SampledSpectrum([1.9, 2.5, 3.3, 4.5]),

@@ -19,7 +19,7 @@ pub const MAX_POINTS_PER_PATH: usize = 8;
 
 /// A camera-path vertex where photons are gathered.
 #[derive(Clone, Copy, Debug)]
-pub struct VisibilityPoint {
+pub struct VisibilityPoint<'a> {
     /// Position.
     pub p: Vec3,
     /// Unit geometric normal of the surface (its winding side, not flipped).
@@ -29,7 +29,7 @@ pub struct VisibilityPoint {
     /// Direction towards the eye along the path, in the shading frame.
     pub wo_local: Vec3,
     /// The BSDF at the iteration's wavelengths.
-    pub bsdf: Bsdf,
+    pub bsdf: Bsdf<'a>,
     /// Camera-path throughput from the eye to this vertex.
     pub beta: SampledSpectrum,
     /// The path's layer class on arrival (light gathered here is one more non-specular event).
@@ -59,12 +59,12 @@ pub struct GatherRule {
 
 /// What one camera path of an iteration produced.
 #[derive(Clone, Debug)]
-pub struct CameraPathResult {
+pub struct CameraPathResult<'a> {
     /// Emission and direct light collected on the way (and indirect light found before the
     /// gather vertex when the gather depth is > 0).
     pub radiance: LayeredRadiance,
     /// The gather vertices the path reached (at most [`MAX_POINTS_PER_PATH`]).
-    pub points: Vec<VisibilityPoint>,
+    pub points: Vec<VisibilityPoint<'a>>,
     /// The path's wavelengths (secondaries terminated by a dispersive interface).
     pub wl: SampledWavelengths,
 }
@@ -103,13 +103,13 @@ fn direct_by_bsdf_sample(
 /// hit and the path ends. Without a cone every gather vertex ends the path (plain `vismap`).
 /// Paths are not Russian-rouletted: they are at most `depth` + 1 non-specular vertices long
 /// (plus quasi-specular chains of at most [`MAX_POINTS_PER_PATH`] gather vertices).
-pub fn trace_camera_path(
-    scene: &Scene,
+pub fn trace_camera_path<'s>(
+    scene: &'s Scene,
     mut ray: Ray,
     mut wl: SampledWavelengths,
     sampler: &mut Sampler,
     rule: &GatherRule,
-) -> CameraPathResult {
+) -> CameraPathResult<'s> {
     let mut out = LayeredRadiance::default();
     let mut points = Vec::new();
     let mut beta = SampledSpectrum::one();
