@@ -11,6 +11,7 @@ use quasar_importers::SceneDesc;
 use crate::compare::rel_mse;
 use crate::job::{JobOverrides, render_desc};
 use crate::method::BidirectionalOptions;
+use crate::plot::{Canvas, PLOT_COLOURS};
 
 /// One method configuration of a comparison, parsed from `name[:option]`.
 #[derive(Clone, Debug, PartialEq)]
@@ -201,18 +202,6 @@ pub fn markdown_table(points: &[CurvePoint], target: f64) -> String {
     s
 }
 
-/// Colours of the plot's curves, in method order (also printed as the legend).
-pub const PLOT_COLOURS: [(&str, [u8; 3]); 8] = [
-    ("black", [0, 0, 0]),
-    ("red", [220, 30, 30]),
-    ("blue", [30, 60, 220]),
-    ("green", [20, 150, 40]),
-    ("orange", [240, 140, 0]),
-    ("purple", [140, 40, 170]),
-    ("cyan", [0, 170, 190]),
-    ("brown", [130, 80, 30]),
-];
-
 /// Writes a 640x480 log-log plot of relMSE (vertical) against seconds (horizontal): grey lines at
 /// every power of ten, one polyline per method in [`PLOT_COLOURS`] order, a dot per render. It has
 /// no text: the legend and the axis ranges are returned as a string to print beside it.
@@ -237,24 +226,14 @@ pub fn write_plot(points: &[CurvePoint], path: &Path) -> Result<String> {
         let y = H as f64 - M - (e.log10() - y0) / (y1 - y0) * (H as f64 - 2.0 * M);
         (x, y)
     };
-    let mut img = image::RgbImage::from_pixel(W, H, image::Rgb([255, 255, 255]));
-    let line = |img: &mut image::RgbImage, a: (f64, f64), b: (f64, f64), c: [u8; 3]| {
-        let n = ((b.0 - a.0).abs().max((b.1 - a.1).abs()) as usize).max(1);
-        for i in 0..=n {
-            let t = i as f64 / n as f64;
-            let (x, y) = (a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1));
-            if x >= 0.0 && y >= 0.0 && (x as u32) < W && (y as u32) < H {
-                img.put_pixel(x as u32, y as u32, image::Rgb(c));
-            }
-        }
-    };
+    let mut img = Canvas::new(W, H);
     for d in x0 as i32..=x1 as i32 {
         let (x, _) = to_px(10f64.powi(d), 10f64.powf(y0));
-        line(&mut img, (x, M), (x, H as f64 - M), [200, 200, 200]);
+        img.line((x, M), (x, H as f64 - M), [200, 200, 200]);
     }
     for d in y0 as i32..=y1 as i32 {
         let (_, y) = to_px(10f64.powf(x0), 10f64.powi(d));
-        line(&mut img, (M, y), (W as f64 - M, y), [200, 200, 200]);
+        img.line((M, y), (W as f64 - M, y), [200, 200, 200]);
     }
     let mut legend = format!(
         "plot: seconds 1e{x0}..1e{x1} (horizontal, log), relMSE 1e{y0}..1e{y1} (vertical, log); grid at powers of ten\n"
@@ -265,22 +244,13 @@ pub fn write_plot(points: &[CurvePoint], path: &Path) -> Result<String> {
         let pts: Vec<(f64, f64)> =
             finite.iter().filter(|p| p.label == *label).map(|p| to_px(p.seconds, p.rel_mse)).collect();
         for w in pts.windows(2) {
-            line(&mut img, w[0], w[1], colour);
+            img.line(w[0], w[1], colour);
         }
         for &(x, y) in &pts {
-            for dy in -2..=2 {
-                for dx in -2..=2 {
-                    let (px, py) = (x as i64 + dx, y as i64 + dy);
-                    if px >= 0 && py >= 0 && (px as u32) < W && (py as u32) < H {
-                        img.put_pixel(px as u32, py as u32, image::Rgb(colour));
-                    }
-                }
-            }
+            img.marker(x, y, colour);
         }
     }
-    let tmp = path.with_extension("png.tmp");
-    img.save_with_format(&tmp, image::ImageFormat::Png).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-    std::fs::rename(&tmp, path)?;
+    img.save(path)?;
     Ok(legend)
 }
 

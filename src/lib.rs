@@ -7,6 +7,7 @@
 #![warn(missing_docs)]
 
 pub mod analysis;
+pub mod bsdf_report;
 pub mod camera;
 pub mod checkpoint;
 pub mod compare;
@@ -17,9 +18,11 @@ pub mod integrator;
 pub mod interrupt;
 pub mod job;
 pub mod light;
+pub mod material_library;
 pub mod merge;
 pub mod method;
 pub mod output;
+pub mod plot;
 pub mod render;
 pub mod sampling;
 pub mod scene;

@@ -124,11 +124,73 @@ enum Command {
         #[command(subcommand)]
         what: BenchCommand,
     },
+    /// Report on a tabulated BSDF (.toml, or a Zemax .bsdf): albedo per incidence and
+    /// wavelength, kappa, energy verdict; `quasar bsdf convert` converts a Zemax .bsdf file.
+    #[command(args_conflicts_with_subcommands = true)]
+    Bsdf {
+        #[command(subcommand)]
+        action: Option<BsdfCommand>,
+        /// The material file.
+        file: Option<PathBuf>,
+        /// Write a polar plot of the lobes (PNG).
+        #[arg(long)]
+        plot: Option<PathBuf>,
+    },
     /// Print what a scene contains and which method `auto` would use.
     Info {
         /// Scene file.
         scene: PathBuf,
     },
+}
+
+#[derive(Subcommand)]
+enum BsdfCommand {
+    /// Convert a Zemax/Radiant tabular .bsdf file to the TOML tabulated-BSDF format.
+    Convert {
+        /// The .bsdf file.
+        input: PathBuf,
+        /// The TOML file to write.
+        #[arg(short, long)]
+        output: PathBuf,
+    },
+}
+
+fn bsdf(action: Option<BsdfCommand>, file: Option<PathBuf>, plot: Option<PathBuf>) -> anyhow::Result<()> {
+    use quasar::importers::bsdf_file;
+    if let Some(BsdfCommand::Convert { input, output }) = action {
+        if same_file(&input, &output) {
+            anyhow::bail!("{}: the output would overwrite the input", output.display());
+        }
+        let c = bsdf_file::zemax::convert_zemax_bsdf(&input)?;
+        for w in &c.warnings {
+            eprintln!("warning: {}: {w}", input.display());
+        }
+        quasar::materials::TabulatedTable::new(c.spec.clone())
+            .map_err(|e| anyhow::anyhow!("{}: the converted table is invalid: {e}", input.display()))?;
+        let source = input.file_name().map_or(String::new(), |n| n.to_string_lossy().into_owned());
+        let mut prov: Vec<(&str, &str)> = vec![("converted_from", &source), ("converter", "quasar bsdf convert")];
+        prov.extend(c.header.iter().map(|(k, v)| (k.as_str(), v.as_str())));
+        let text = bsdf_file::to_toml(&c.spec, "converted from a Zemax tabular BSDF file", &prov);
+        let tmp = output.with_extension("toml.tmp");
+        std::fs::write(&tmp, text).map_err(|e| anyhow::anyhow!("{}: {e}", output.display()))?;
+        std::fs::rename(&tmp, &output).map_err(|e| anyhow::anyhow!("{}: {e}", output.display()))?;
+        eprintln!("wrote {}", output.display());
+        return Ok(());
+    }
+    let Some(file) = file else { anyhow::bail!("give a material file: quasar bsdf FILE [--plot out.png]") };
+    let (table, warnings) = bsdf_file::load_for_inspection(&file)?;
+    for w in &warnings {
+        eprintln!("warning: {}: {w}", file.display());
+    }
+    let r = quasar::bsdf_report::report(&table, &file);
+    print!("{}", r.text);
+    if let Some(p) = plot {
+        print!("{}", quasar::bsdf_report::write_lobe_plot(&table, &p)?);
+    }
+    if !r.energy_ok {
+        anyhow::bail!("{}: the table fails the energy check (max albedo {:.4})", file.display(), r.max_albedo);
+    }
+    Ok(())
 }
 
 #[derive(Subcommand)]
@@ -363,6 +425,7 @@ fn run() -> anyhow::Result<()> {
             Ok(())
         }
         Command::Bench { what } => bench(what),
+        Command::Bsdf { action, file, plot } => bsdf(action, file, plot),
         Command::Info { scene } => {
             let desc = load_scene(&scene)?;
             let compiled = Scene::compile(&desc)?;

@@ -168,6 +168,7 @@ fn tables() -> Vec<(&'static str, TabulatedTable)> {
             phi: deg((0..=12).map(|i| i as f32 * 15.0)),
         }),
         btdf: None,
+        both_faces: false,
     }
     .tabulate(material_fn(&conductor));
     let glass = Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.3 };
@@ -184,6 +185,7 @@ fn tables() -> Vec<(&'static str, TabulatedTable)> {
         ior: Some(1.5),
         brdf: Some(spec_grid.clone()),
         btdf: Some(spec_grid),
+        both_faces: true,
     }
     .tabulate(material_fn(&glass));
     let aniso = Tabulation {
@@ -198,6 +200,7 @@ fn tables() -> Vec<(&'static str, TabulatedTable)> {
             phi: uniform_phi(24),
         }),
         btdf: None,
+        both_faces: false,
     }
     .tabulate(|_, d_in, d_out| {
         // A lobe around the mirror direction, wider along x than along y (brushed finish).

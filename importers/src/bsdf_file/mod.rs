@@ -51,8 +51,27 @@ pub fn load_tabulated_bsdf(path: &Path) -> Result<Arc<TabulatedTable>, ImportErr
 
 /// Parses and validates tabulated-BSDF TOML text as if read from `path` (for messages).
 pub fn parse_tabulated_bsdf(text: &str, path: &Path) -> Result<Arc<TabulatedTable>, ImportError> {
+    parse_checked(text, path, true)
+}
+
+/// Reads a tabulated BSDF for inspection (`quasar bsdf`): a `.bsdf` file is converted first
+/// ([`zemax`], its warnings returned), and the albedo check is left to the caller (so a report
+/// can show where a table fails it). Every other check applies.
+pub fn load_for_inspection(path: &Path) -> Result<(Arc<TabulatedTable>, Vec<String>), ImportError> {
+    if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("bsdf")) {
+        let c = zemax::convert_zemax_bsdf(path)?;
+        let t = TabulatedTable::new_without_energy_check(c.spec)
+            .map_err(|e| ImportError::new(ImportErrorKind::InvalidValue, ErrorPlace::file(path), e.to_string()))?;
+        return Ok((Arc::new(t), c.warnings));
+    }
+    let text = read_small_text(path, "tabulated BSDF file")?;
+    Ok((parse_checked(&text, path, false)?, Vec::new()))
+}
+
+fn parse_checked(text: &str, path: &Path, check_energy: bool) -> Result<Arc<TabulatedTable>, ImportError> {
     let (spec, spans) = parse_spec(text, path)?;
-    let table = TabulatedTable::new(spec).map_err(|e| {
+    let built = if check_energy { TabulatedTable::new(spec) } else { TabulatedTable::new_without_energy_check(spec) };
+    let table = built.map_err(|e| {
         let key = e.table.split('.').take(2).collect::<Vec<_>>().join(".");
         let span = spans.get(&key).or_else(|| spans.get(e.table.split('.').next().unwrap_or(""))).cloned();
         let place = span.map_or_else(|| ErrorPlace::file(path), |s| ErrorPlace::at_offset(path, text, s.start));

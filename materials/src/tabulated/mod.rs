@@ -269,7 +269,16 @@ impl TabulatedTable {
     /// Validates `spec` (grids finite and strictly increasing, values finite and >= 0, sizes
     /// within limits, directional albedo R + T <= 1 + [`ALBEDO_TOLERANCE`] at every wavelength and
     /// incidence) and builds the sampling distributions.
-    pub fn new(mut spec: TabulatedSpec) -> Result<Self, TableError> {
+    pub fn new(spec: TabulatedSpec) -> Result<Self, TableError> {
+        Self::build(spec, true)
+    }
+
+    /// Like [`new`](Self::new) without the albedo check (for reports on tables that fail it).
+    pub fn new_without_energy_check(spec: TabulatedSpec) -> Result<Self, TableError> {
+        Self::build(spec, false)
+    }
+
+    fn build(mut spec: TabulatedSpec, check_energy: bool) -> Result<Self, TableError> {
         check_axis("wavelengths", &spec.wavelengths, 1.0, 1e5, false, "nm")?;
         check_axis("incidence.theta", &spec.theta_i, 0.0, FRAC_PI_2, false, "deg")?;
         check_axis("incidence.phi", &spec.phi_i, 0.0, TAU, true, "deg")?;
@@ -315,7 +324,9 @@ impl TabulatedTable {
                 }
             }
         }
-        table.check_energy()?;
+        if check_energy {
+            table.check_energy()?;
+        }
         Ok(table)
     }
 

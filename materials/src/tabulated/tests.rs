@@ -22,6 +22,7 @@ fn lambertian(rho: f32) -> TabulatedSpec {
         ior: None,
         brdf: Some(GridSpec { grid: ScatterGrid::Absolute, theta: deg(&[0.0, 30.0, 60.0, 90.0]), phi: vec![0.0] }),
         btdf: None,
+        both_faces: false,
     }
     .tabulate(|_, _, _| rho * FRAC_1_PI)
 }
@@ -41,6 +42,7 @@ fn ggx(alpha: f32) -> (Material, TabulatedTable) {
             phi: deg(&(0..=18).map(|i| i as f32 * 10.0).collect::<Vec<_>>()),
         }),
         btdf: None,
+        both_faces: false,
     }
     .tabulate(material_fn(&m));
     (m.clone(), TabulatedTable::new(spec).unwrap())
@@ -172,6 +174,7 @@ fn narrow_transmission_lobe_follows_refraction() {
             theta: power_spaced(40, 0.6f32.to_radians(), 1.5),
             phi: uniform_phi(1),
         }),
+        both_faces: false,
     }
     .tabulate(|_, _, _| 0.0);
     // A lobe 0.2 degrees wide: f = A exp(-(theta/0.1deg)^2), A chosen for an albedo of ~0.9.
