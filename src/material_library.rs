@@ -100,7 +100,7 @@ fn metal(name: &str, metal: &str, alpha: f32) -> TabulatedSpec {
         ior: None,
         brdf: Some(GridSpec {
             grid: ScatterGrid::SpecularRelative,
-            theta: power_spaced(28, PI / 2.0, 2.0),
+            theta: power_spaced(32, PI, 2.2),
             phi: half_phi(20.0),
         }),
         btdf: None,
@@ -126,7 +126,7 @@ fn brushed_aluminium() -> TabulatedSpec {
         ior: None,
         brdf: Some(GridSpec {
             grid: ScatterGrid::SpecularRelative,
-            theta: power_spaced(24, 75f32.to_radians(), 1.8),
+            theta: power_spaced(28, PI, 2.0),
             phi: deg((0..24).map(|i| i as f32 * 15.0)),
         }),
         btdf: None,

@@ -9,9 +9,16 @@ use quasar_materials::tabulated::{BackFace, Face, ScatterGrid, ScatterTable};
 /// Free-form provenance written to `[provenance]` (key, value).
 pub type Provenance<'a> = &'a [(&'a str, &'a str)];
 
+/// A list of numbers; radians are written as degrees rounded to 1e-5 degree (0.04 arcsec), which
+/// hides the f32 noise of the degree -> radian -> degree round trip.
 fn list(v: &[f32], degrees: bool) -> String {
-    let items: Vec<String> = v.iter().map(|&x| fmt_num(if degrees { x.to_degrees() } else { x })).collect();
+    let items: Vec<String> = v.iter().map(|&x| if degrees { fmt_deg(x) } else { fmt_num(x) }).collect();
     format!("[{}]", items.join(", "))
+}
+
+/// Radians as degrees rounded to 1e-5 degree.
+fn fmt_deg(x: f32) -> String {
+    fmt_num(((f64::from(x).to_degrees() * 1e5).round() / 1e5) as f32)
 }
 
 /// Shortest text that reads back as the same f32, always with a digit TOML accepts.
@@ -59,8 +66,8 @@ fn table(out: &mut String, header: &str, t: &ScatterTable, spec: &TabulatedSpec)
                 out,
                 "  # {} nm, incidence phi {} deg, theta {} deg",
                 fmt_num(spec.wavelengths[l]),
-                fmt_num(spec.phi_i[pi].to_degrees()),
-                fmt_num(spec.theta_i[ti].to_degrees())
+                fmt_deg(spec.phi_i[pi]),
+                fmt_deg(spec.theta_i[ti])
             );
         }
         let items: Vec<String> = row.iter().map(|&x| fmt_num(x)).collect();

@@ -65,7 +65,7 @@ impl<'a> TabulatedBsdf<'a> {
         let inc = Incidence::of(di);
         let axis = match t.grid {
             ScatterGrid::Absolute => None,
-            ScatterGrid::SpecularRelative => Some(lobe_axis(inc.theta, transmit, self.table.eta(back))?),
+            ScatterGrid::SpecularRelative => Some(lobe_axis(inc.theta, transmit, self.table.eta(back))),
         };
         let (theta, phi) = grid_coords(inc.face_to_plane(v), axis, transmit);
         Some(Lookup { back, transmit, inc, theta, phi })
@@ -156,7 +156,7 @@ impl<'a> TabulatedBsdf<'a> {
         let (k, ux) = d.sample(slice, u.x)?;
         let axis = match t.grid {
             ScatterGrid::Absolute => None,
-            ScatterGrid::SpecularRelative => Some(lobe_axis(inc.theta, transmit, self.table.eta(back))?),
+            ScatterGrid::SpecularRelative => Some(lobe_axis(inc.theta, transmit, self.table.eta(back))),
         };
         let (h0, h1, p0, p1) = cell_bounds(t, k);
         let v = grid_direction(h0 + (h1 - h0) * ux, p0 + (p1 - p0) * u.y, axis, transmit);

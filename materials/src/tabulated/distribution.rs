@@ -69,20 +69,18 @@ pub(crate) fn value(t: &ScatterTable, l: usize, slice: usize, n_slices: usize, t
     lo + (hi - lo) * ta
 }
 
-/// The lobe axis of `t` for incidence slice `slice` (None: absolute grid or no refraction).
+/// The lobe axis of `t` for incidence slice `slice` (None: absolute grid).
 fn slice_axis(
     table: &TabulatedTable,
     t: &ScatterTable,
     back: bool,
     transmit: bool,
     slice: usize,
-) -> Option<Option<glam::Vec3>> {
+) -> Option<glam::Vec3> {
     let n_ti = table.spec().theta_i.len();
     match t.grid {
-        ScatterGrid::Absolute => Some(None),
-        ScatterGrid::SpecularRelative => {
-            lobe_axis(table.spec().theta_i[slice % n_ti], transmit, table.eta(back)).map(Some)
-        }
+        ScatterGrid::Absolute => None,
+        ScatterGrid::SpecularRelative => Some(lobe_axis(table.spec().theta_i[slice % n_ti], transmit, table.eta(back))),
     }
 }
 
@@ -99,7 +97,7 @@ pub(crate) fn cell_integrals(
 ) -> Vec<f64> {
     let n = n_cells(t);
     let mut out = vec![0.0f64; n];
-    let Some(axis) = slice_axis(table, t, back, transmit, slice) else { return out };
+    let axis = slice_axis(table, t, back, transmit, slice);
     let n_slices = table.n_slices();
     for (k, o) in out.iter_mut().enumerate() {
         let (h0, h1, p0, p1) = cell_bounds(t, k);
@@ -154,7 +152,6 @@ impl LobeDistribution {
         let mut total = Vec::with_capacity(n_slices);
         for slice in 0..n_slices {
             let mut w = cell_integrals(table, t, back, transmit, slice, &lw);
-            let feasible = slice_axis(table, t, back, transmit, slice).is_some();
             for (k, wk) in w.iter_mut().enumerate() {
                 let (a, b) = (k / n_p, k % n_p);
                 let corners = [(a, b), (a, (b + 1) % n_p), (a + 1, b), (a + 1, (b + 1) % n_p)];
@@ -165,7 +162,7 @@ impl LobeDistribution {
                     })
                     .fold(0.0f32, f32::max);
                 let (h0, h1, p0, p1) = cell_bounds(t, k);
-                if feasible && peak > 0.0 {
+                if peak > 0.0 {
                     *wk = wk.max(FLOOR * f64::from(peak) * f64::from(solid_angle(h0, h1, p0, p1)));
                 }
             }

@@ -70,14 +70,13 @@ impl Tabulation {
                         let d_in = Vec3::new(st * pi.cos(), st * pi.sin(), ct);
                         let inc = Incidence::of(d_in);
                         let axis = match g.grid {
-                            ScatterGrid::Absolute => Some(None),
-                            ScatterGrid::SpecularRelative => lobe_axis(ti, transmit, eta).map(Some),
+                            ScatterGrid::Absolute => None,
+                            ScatterGrid::SpecularRelative => Some(lobe_axis(ti, transmit, eta)),
                         };
                         for &t in &g.theta {
                             for &p in &g.phi {
-                                let v =
-                                    axis.map(|a| inc.plane_to_face(grid_direction(half_versine(t), p, a, transmit)));
-                                let ok = v.filter(|v| (v.z < 0.0) == transmit && v.z != 0.0);
+                                let v = inc.plane_to_face(grid_direction(half_versine(t), p, axis, transmit));
+                                let ok = Some(v).filter(|v| (v.z < 0.0) == transmit && v.z != 0.0);
                                 let (a, b) = (to_face(d_in, back), ok.map(|v| to_face(v.normalize(), back)));
                                 values.push(b.map_or(0.0, |d_out| f(l, a, d_out).max(0.0)));
                             }
@@ -157,7 +156,7 @@ fn quadrature(f: impl Fn(Vec3) -> f32, theta_i: f32, eta: f32) -> (f32, f32) {
     let mut out = [0.0f64; 2];
     for (k, transmit) in [false, true].into_iter().enumerate() {
         // Integrate each hemisphere around its own lobe axis (the normal when there is none).
-        let axis = lobe_axis(theta_i, transmit, eta).unwrap_or(if transmit { -Vec3::Z } else { Vec3::Z });
+        let axis = lobe_axis(theta_i, transmit, eta);
         let (e1, e2) = {
             let a = if axis.x.abs() < 0.9 { Vec3::X } else { Vec3::Y };
             let e1 = (a - axis * a.dot(axis)).normalize();

@@ -60,26 +60,25 @@ impl Incidence {
 
 /// The axis of a specular-relative lobe in the plane frame for incidence angle `theta_i`: the
 /// mirror direction (sin ti, 0, cos ti), or for transmission the Snell refraction direction
-/// (sin tt, 0, -cos tt) with sin tt = sin ti / eta (`eta` = IOR of the far side over the incident
-/// side). None under total internal reflection.
+/// (sin tt, 0, -cos tt) with sin tt = min(sin ti / eta, 1) (`eta` = IOR of the far side over the
+/// incident side). Beyond the critical angle the axis stays at the horizon, where a rough
+/// interface's transmitted light leaves, so the lobe moves continuously with the incidence.
 #[inline]
-pub(crate) fn lobe_axis(theta_i: f32, transmit: bool, eta: f32) -> Option<Vec3> {
+pub(crate) fn lobe_axis(theta_i: f32, transmit: bool, eta: f32) -> Vec3 {
     let (s, c) = theta_i.sin_cos();
     if !transmit {
-        return Some(Vec3::new(s, 0.0, c));
+        return Vec3::new(s, 0.0, c);
     }
-    let st = s / eta;
-    if st.is_nan() || st >= 1.0 {
-        return None;
-    }
-    Some(Vec3::new(st, 0.0, -(1.0 - st * st).max(0.0).sqrt()))
+    let st = if eta > 0.0 { (s / eta).clamp(0.0, 1.0) } else { 1.0 };
+    Vec3::new(st, 0.0, -(1.0 - st * st).max(0.0).sqrt())
 }
 
 /// The tangent basis (e1, e2) around a lobe axis `c = (sx, 0, cz)` of the plane frame: e1 points
-/// from the axis towards the normal line (phi = 0 of Zemax-style specular-relative data), e2 = +y.
+/// from the axis towards the normal line on the lobe's side (phi = 0 of Zemax-style
+/// specular-relative data), e2 = +y.
 #[inline]
-fn axis_basis(c: Vec3) -> (Vec3, Vec3) {
-    let sign = if c.z < 0.0 { -1.0 } else { 1.0 };
+fn axis_basis(c: Vec3, transmit: bool) -> (Vec3, Vec3) {
+    let sign = if transmit { -1.0 } else { 1.0 };
     (Vec3::new(-c.z.abs(), 0.0, sign * c.x), Vec3::Y)
 }
 
@@ -91,7 +90,7 @@ fn axis_basis(c: Vec3) -> (Vec3, Vec3) {
 pub(crate) fn grid_coords(v: Vec3, axis: Option<Vec3>, transmit: bool) -> (f32, f32) {
     let (x0, x1, x2) = match axis {
         Some(c) => {
-            let (e1, e2) = axis_basis(c);
+            let (e1, e2) = axis_basis(c, transmit);
             (v.dot(c), v.dot(e1), v.dot(e2))
         }
         None => (if transmit { -v.z } else { v.z }, v.x, v.y),
@@ -115,7 +114,7 @@ pub(crate) fn grid_direction(h: f32, phi: f32, axis: Option<Vec3>, transmit: boo
     let (sp, cp) = phi.sin_cos();
     match axis {
         Some(c) => {
-            let (e1, e2) = axis_basis(c);
+            let (e1, e2) = axis_basis(c, transmit);
             cos_t * c + sin_t * (cp * e1 + sp * e2)
         }
         None => Vec3::new(sin_t * cp, sin_t * sp, if transmit { -cos_t } else { cos_t }),
@@ -147,9 +146,10 @@ mod tests {
         for (axis, transmit) in [
             (None, false),
             (None, true),
-            (lobe_axis(0.6, false, 1.5), false),
-            (lobe_axis(0.6, true, 1.5), true),
-            (lobe_axis(0.0, true, 0.7), true),
+            (Some(lobe_axis(0.6, false, 1.5)), false),
+            (Some(lobe_axis(0.6, true, 1.5)), true),
+            (Some(lobe_axis(0.0, true, 0.7)), true),
+            (Some(lobe_axis(1.2, true, 0.7)), true),
         ] {
             for (theta, phi) in [(1e-5f32, 0.3f32), (0.01, 5.0), (0.4, 1.0), (1.2, 3.5)] {
                 let v = grid_direction(half_versine(theta), phi, axis, transmit);
@@ -163,9 +163,10 @@ mod tests {
 
     #[test]
     fn specular_phi_zero_points_towards_the_normal() {
-        let c = lobe_axis(0.5, false, 1.0).unwrap();
+        let c = lobe_axis(0.5, false, 1.0);
         let v = grid_direction(half_versine(0.1), 0.0, Some(c), false);
         assert!(v.z > c.z && v.y.abs() < 1e-6, "phi = 0 turns the axis towards the normal: {v}");
-        assert!(lobe_axis(1.2, true, 1.0 / 1.5).is_none(), "total internal reflection");
+        let t = lobe_axis(1.2, true, 1.0 / 1.5);
+        assert!(t.z == 0.0 && t.x == 1.0, "beyond the critical angle the axis is at the horizon: {t}");
     }
 }
