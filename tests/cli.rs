@@ -158,3 +158,55 @@ fn shard_and_merge_commands() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("overwrite the scene"));
     assert!(std::fs::read_to_string(&s.path).unwrap().contains("[render]"));
 }
+
+#[test]
+fn bsdf_command_reports_plots_converts_and_refuses() {
+    let lib = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("materials/library");
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("lobe.png");
+    let out = quasar().arg("bsdf").arg(lib.join("glass-plate-top.toml")).arg("--plot").arg(&png).output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    for needle in
+        ["directional albedo, front face", "directional albedo, back face", "kappa", "energy: max albedo", "OK"]
+    {
+        assert!(text.contains(needle), "report lacks {needle:?}:\n{text}");
+    }
+    let img = image::open(&png).unwrap().to_rgb8();
+    assert_eq!(img.dimensions(), (720, 720));
+    assert!(img.pixels().any(|p| p.0 == [220, 30, 30]), "the 30 degree curve is drawn");
+
+    // A table that scatters more than it receives: the report shows it and the exit code fails.
+    let hot = dir.path().join("hot.toml");
+    std::fs::write(
+        &hot,
+        "format = \"quasar-bsdf\"\nunits = \"1/sr\"\nwavelengths_nm = [550]\n[incidence]\ntheta_deg = [0]\n\
+         [front.brdf]\ngrid = \"absolute\"\ntheta_deg = [0, 90]\nvalues = [1, 1]\n",
+    )
+    .unwrap();
+    let out = quasar().arg("bsdf").arg(&hot).output().unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stdout).contains("FAILS"));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("energy check"));
+
+    // Conversion of a Zemax file, then the report on the result.
+    let zemax = dir.path().join("film.bsdf");
+    let mut z =
+        String::from("Source Measured\nSymmetry PlaneSymmetrical\nSpectralContent Monochrome\nScatterType BTDF\n");
+    z += "SampleRotation 1\n0\nAngleOfIncidence 2\n0 40\nScatterAzimuth 3\n0 90 180\nScatterRadial 3\n0 10 30\n";
+    z += "Monochrome\nDataBegin\nTIS 0.5\n0.9 0.5 0.05\n0.9 0.5 0.05\n0.9 0.5 0.05\nTIS 0.5\n0.8 0.4 0.04\n0.8 0.4 0.04\n0.8 0.4 0.04\nDataEnd\n";
+    std::fs::write(&zemax, z).unwrap();
+    let toml = dir.path().join("film.toml");
+    let st = quasar().args(["bsdf", "convert"]).arg(&zemax).arg("-o").arg(&toml).status().unwrap();
+    assert!(st.success());
+    let text = std::fs::read_to_string(&toml).unwrap();
+    assert!(text.contains("[front.btdf]") && text.contains("grid = \"specular\"") && text.contains("converted_from"));
+    let out = quasar().arg("bsdf").arg(&toml).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    // A broken .bsdf file: error naming it, nothing written.
+    std::fs::write(&zemax, "Source Measured\nSymmetry Round\n").unwrap();
+    let bad = dir.path().join("bad.toml");
+    let out = quasar().args(["bsdf", "convert"]).arg(&zemax).arg("-o").arg(&bad).output().unwrap();
+    assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("film.bsdf:"));
+    assert!(!bad.exists());
+}

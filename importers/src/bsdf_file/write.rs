@@ -9,16 +9,25 @@ use quasar_materials::tabulated::{BackFace, Face, ScatterGrid, ScatterTable};
 /// Free-form provenance written to `[provenance]` (key, value).
 pub type Provenance<'a> = &'a [(&'a str, &'a str)];
 
-/// A list of numbers; radians are written as degrees rounded to 1e-5 degree (0.04 arcsec), which
-/// hides the f32 noise of the degree -> radian -> degree round trip.
+/// A list of numbers (`degrees`: radians written as degrees, see [`fmt_deg`]).
 fn list(v: &[f32], degrees: bool) -> String {
     let items: Vec<String> = v.iter().map(|&x| if degrees { fmt_deg(x) } else { fmt_num(x) }).collect();
     format!("[{}]", items.join(", "))
 }
 
-/// Radians as degrees rounded to 1e-5 degree.
+/// Radians as the shortest degree text that reads back (f32 degrees -> `to_radians`) as exactly
+/// the same radians, so a written table loads with the identical grid.
 fn fmt_deg(x: f32) -> String {
-    fmt_num(((f64::from(x).to_degrees() * 1e5).round() / 1e5) as f32)
+    let d = x.to_degrees();
+    let mut candidates = vec![((f64::from(x).to_degrees() * 1e5).round() / 1e5) as f32, d];
+    let (mut lo, mut hi) = (d, d);
+    for _ in 0..4 {
+        lo = lo.next_down();
+        hi = hi.next_up();
+        candidates.extend([lo, hi]);
+    }
+    let exact = candidates.into_iter().filter(|c| c.to_radians() == x).min_by_key(|c| fmt_num(*c).len());
+    fmt_num(exact.unwrap_or(d))
 }
 
 /// Shortest text that reads back as the same f32, always with a digit TOML accepts.

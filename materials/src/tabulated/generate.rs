@@ -23,14 +23,16 @@ pub struct GridSpec {
 }
 
 /// `n` polar angles from 0 to `max` (radians) spaced by a power law (exponent `p` > 1 packs
-/// them near 0: fine steps inside a narrow lobe, coarse ones in its tail).
+/// them near 0: fine steps inside a narrow lobe, coarse ones in its tail). Each angle is an f32
+/// number of degrees converted to radians, so a table written in degrees reads back exactly.
 pub fn power_spaced(n: usize, max: f32, p: f32) -> Vec<f32> {
-    (0..n).map(|i| max * (i as f32 / (n - 1) as f32).powf(p)).collect()
+    let max_deg = max.to_degrees();
+    (0..n).map(|i| (max_deg * (i as f32 / (n - 1) as f32).powf(p)).to_radians()).collect()
 }
 
-/// `n` azimuths uniformly over [0, 2 pi).
+/// `n` azimuths uniformly over [0, 2 pi) (degrees converted to radians, see [`power_spaced`]).
 pub fn uniform_phi(n: usize) -> Vec<f32> {
-    (0..n).map(|i| TAU * i as f32 / n as f32).collect()
+    (0..n).map(|i| (360.0 * i as f32 / n as f32).to_radians()).collect()
 }
 
 /// What to tabulate: wavelengths, incidences and the scatter grids of the front face.

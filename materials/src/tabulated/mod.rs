@@ -247,9 +247,11 @@ impl ScatterTable {
     /// expanded to the full periodic [0, 2 pi).
     fn expand_mirror(&mut self) {
         let n_p = self.phi.len();
-        if n_p < 2 || self.phi[n_p - 1] != PI {
+        // Exactly 180 degrees, allowing for the f32 rounding of a degree value written as text.
+        if n_p < 2 || (self.phi[n_p - 1] - PI).abs() > 1e-5 {
             return;
         }
+        self.phi[n_p - 1] = PI;
         let mirrored: Vec<usize> = (1..n_p - 1).rev().collect();
         let mut phi = self.phi.clone();
         phi.extend(mirrored.iter().map(|&j| TAU - self.phi[j]));

@@ -197,4 +197,3 @@ fn narrow_transmission_lobe_follows_refraction() {
     let angle = s.wi.dot(expect).clamp(-1.0, 1.0).acos().to_degrees();
     assert!(angle < 0.5, "sample {} is {angle} deg from the refraction direction", s.wi);
 }
-
