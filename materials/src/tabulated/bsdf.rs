@@ -8,7 +8,7 @@
 
 use glam::{Vec2, Vec3};
 
-use super::distribution::{cell_bounds, locate, solid_angle, value};
+use super::distribution::{Bilinear, cell_bounds, locate, solid_angle};
 use super::geometry::{Incidence, grid_coords, grid_direction, lobe_axis, to_face};
 use super::{ScatterGrid, TabulatedTable, bracket};
 use crate::bsdf::{BsdfSample, Lobe, TransportMode};
@@ -75,14 +75,14 @@ impl<'a> TabulatedBsdf<'a> {
     fn eval(&self, d_in: Vec3, d_out: Vec3) -> SampledSpectrum {
         let Some(q) = self.lookup(d_in, d_out) else { return SampledSpectrum::zero() };
         let Some(t) = self.table.lobe_table(q.back, q.transmit) else { return SampledSpectrum::zero() };
+        let Some(bl) = Bilinear::at(t, q.theta, q.phi) else { return SampledSpectrum::zero() };
         let (slices, n) = self.table.slices(q.inc.theta, q.inc.phi);
         let n_slices = self.table.n_slices();
         let mut out = [0.0f32; 4];
         for (k, o) in out.iter_mut().enumerate() {
             let (l0, l1, fl) = self.lambda[k];
-            let at = |l: u32| -> f32 {
-                slices[..n].iter().map(|&(s, w)| w * value(t, l as usize, s, n_slices, q.theta, q.phi)).sum()
-            };
+            let at =
+                |l: u32| -> f32 { slices[..n].iter().map(|&(s, w)| w * bl.value(t, l as usize, s, n_slices)).sum() };
             let v0 = at(l0);
             *o = if fl > 0.0 { v0 + (at(l1) - v0) * fl } else { v0 };
         }

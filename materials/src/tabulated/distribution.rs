@@ -52,21 +52,41 @@ pub(crate) fn locate(t: &ScatterTable, theta: f32, phi: f32) -> Option<usize> {
     Some(a * t.phi.len() + b.min(t.phi.len() - 1))
 }
 
-/// Bilinear value of table `t` at wavelength index `l`, incidence slice `slice` (of
-/// `n_slices`) and grid coordinates (theta, phi); 0 beyond the last theta.
-#[inline]
-pub(crate) fn value(t: &ScatterTable, l: usize, slice: usize, n_slices: usize, theta: f32, phi: f32) -> f32 {
-    let (n_t, n_p) = (t.theta.len(), t.phi.len());
-    if theta.is_nan() || theta > t.theta[n_t - 1] {
-        return 0.0;
+/// Bilinear interpolation weights of grid coordinates (theta, phi) in a table: the four corner
+/// offsets within a slice and their weights; computed once per direction and applied to every
+/// (wavelength, incidence) slice.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Bilinear {
+    idx: [usize; 4],
+    w: [f32; 4],
+}
+
+impl Bilinear {
+    /// The weights at (theta, phi); None beyond the last theta (f = 0 there).
+    #[inline]
+    pub fn at(t: &ScatterTable, theta: f32, phi: f32) -> Option<Self> {
+        let n_p = t.phi.len();
+        if theta.is_nan() || theta > t.theta[t.theta.len() - 1] {
+            return None;
+        }
+        let (a0, a1, ta) = bracket(&t.theta, theta);
+        let (b0, b1, tb) = bracket_periodic(&t.phi, phi);
+        Some(Self {
+            idx: [a0 * n_p + b0, a0 * n_p + b1, a1 * n_p + b0, a1 * n_p + b1],
+            w: [(1.0 - ta) * (1.0 - tb), (1.0 - ta) * tb, ta * (1.0 - tb), ta * tb],
+        })
     }
-    let (a0, a1, ta) = bracket(&t.theta, theta);
-    let (b0, b1, tb) = bracket_periodic(&t.phi, phi);
-    let base = (l * n_slices + slice) * n_t * n_p;
-    let v = |a: usize, b: usize| t.values[base + a * n_p + b];
-    let lo = v(a0, b0) + (v(a0, b1) - v(a0, b0)) * tb;
-    let hi = v(a1, b0) + (v(a1, b1) - v(a1, b0)) * tb;
-    lo + (hi - lo) * ta
+
+    /// The interpolated value in slice `slice` of wavelength `l` (`n_slices` per wavelength).
+    #[inline]
+    pub fn value(&self, t: &ScatterTable, l: usize, slice: usize, n_slices: usize) -> f32 {
+        let base = (l * n_slices + slice) * t.theta.len() * t.phi.len();
+        let v = &t.values[base..];
+        self.w[0] * v[self.idx[0]]
+            + self.w[1] * v[self.idx[1]]
+            + self.w[2] * v[self.idx[2]]
+            + self.w[3] * v[self.idx[3]]
+    }
 }
 
 /// The lobe axis of `t` for incidence slice `slice` (None: absolute grid).
@@ -113,7 +133,8 @@ pub(crate) fn cell_integrals(
                 if cos <= 0.0 {
                     continue;
                 }
-                let f: f32 = lweights.iter().map(|&(l, wl)| wl * value(t, l, slice, n_slices, theta, phi)).sum();
+                let Some(bl) = Bilinear::at(t, theta, phi) else { continue };
+                let f: f32 = lweights.iter().map(|&(l, wl)| wl * bl.value(t, l, slice, n_slices)).sum();
                 s += f64::from(f * cos);
             }
         }
