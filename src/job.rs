@@ -56,9 +56,18 @@ pub struct JobOutput {
     pub result: RenderResult,
 }
 
-/// Loads a scene file through the importer registry.
+/// Loads a scene file through the importer registry (default options).
 pub fn load_scene(path: &Path) -> Result<SceneDesc> {
-    import_scene(path, &ImportOptions::default()).map_err(|e| anyhow::anyhow!("{e}"))
+    load_scene_with(path, &ImportOptions::default())
+}
+
+/// Loads a scene file through the importer registry and prints its import warnings to stderr.
+pub fn load_scene_with(path: &Path, opts: &ImportOptions) -> Result<SceneDesc> {
+    let desc = import_scene(path, opts).map_err(|e| anyhow::anyhow!("{e}"))?;
+    for w in &desc.warnings {
+        eprintln!("warning: {w}");
+    }
+    Ok(desc)
 }
 
 /// Renders a scene description with overrides applied.

@@ -4,9 +4,10 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use quasar::job::{JobOverrides, load_scene, render_desc, write_outputs};
+use quasar::job::{JobOverrides, load_scene, load_scene_with, render_desc, write_outputs};
 use quasar::method::BidirectionalOptions;
 use quasar::scene::Scene;
+use quasar_importers::ImportOptions;
 
 #[derive(Parser)]
 #[command(name = "quasar", version, about = "Physically based spectral renderer for lighting and CAD engineers")]
@@ -18,10 +19,13 @@ struct Cli {
 #[derive(Subcommand)]
 #[allow(clippy::large_enum_variant)] // parsed once per process; size does not matter
 enum Command {
-    /// Render a scene (.toml, .obj) to a multi-layer OpenEXR file.
+    /// Render a scene (.toml, .obj, .gltf, .glb) to a multi-layer OpenEXR file.
     Render {
         /// Scene file.
         scene: PathBuf,
+        /// Let glTF files refer to files by absolute paths or outside their folder.
+        #[arg(long)]
+        allow_external_paths: bool,
         /// Output EXR (default: the scene's name with .exr, in the current directory).
         #[arg(short, long)]
         output: Option<PathBuf>,
@@ -128,6 +132,9 @@ enum Command {
     Info {
         /// Scene file.
         scene: PathBuf,
+        /// Let glTF files refer to files by absolute paths or outside their folder.
+        #[arg(long)]
+        allow_external_paths: bool,
     },
 }
 
@@ -260,6 +267,7 @@ fn run() -> anyhow::Result<()> {
     match cli.command {
         Command::Render {
             scene,
+            allow_external_paths,
             output,
             method,
             spp,
@@ -284,7 +292,7 @@ fn run() -> anyhow::Result<()> {
             preview,
             quiet,
         } => {
-            let desc = load_scene(&scene)?;
+            let desc = load_scene_with(&scene, &ImportOptions { allow_external_paths, ..Default::default() })?;
             quasar::interrupt::install_handler();
             let ov = JobOverrides {
                 width,
@@ -363,8 +371,8 @@ fn run() -> anyhow::Result<()> {
             Ok(())
         }
         Command::Bench { what } => bench(what),
-        Command::Info { scene } => {
-            let desc = load_scene(&scene)?;
+        Command::Info { scene, allow_external_paths } => {
+            let desc = load_scene_with(&scene, &ImportOptions { allow_external_paths, ..Default::default() })?;
             let compiled = Scene::compile(&desc)?;
             println!("scene: {}", scene.display());
             println!("meshes: {}, triangles: {}", desc.meshes.len(), compiled.triangle_count());

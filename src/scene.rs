@@ -1,8 +1,10 @@
 //! The compiled, render-time scene: BVH, materials, lights (DESIGN.md section 1: import ->
 //! SceneDesc -> **compile** -> integrate). Nothing here knows about file formats.
 
-use glam::Vec3;
-use quasar_importers::{LightDesc, SceneDesc};
+use std::borrow::Cow;
+
+use glam::{Vec2, Vec3};
+use quasar_importers::{LightDesc, MaterialTextures, SceneDesc, TextureDesc, pbr_material};
 use quasar_materials::{Frame, Material, NonUniformity};
 use rayon::prelude::*;
 
@@ -51,6 +53,8 @@ pub struct SurfaceInteraction {
     pub material: u32,
     /// Area light index or [`NONE`].
     pub light: u32,
+    /// Texture coordinates (zero unless the material is textured).
+    pub uv: Vec2,
 }
 
 impl SurfaceInteraction {
@@ -108,6 +112,12 @@ pub struct Scene {
     pub light_sampler: LightSampler,
     /// Per-vertex shading normals, three per smooth triangle.
     pub normals: Vec<Vec3>,
+    /// Per-vertex texture coordinates, three per triangle with a textured material.
+    pub uvs: Vec<Vec2>,
+    /// Textures (plain data from the scene description).
+    pub textures: Vec<TextureDesc>,
+    /// Textures of each material (same order as `materials`; empty for most).
+    pub material_textures: Vec<MaterialTextures>,
     /// Centre of the bounding sphere.
     pub center: Vec3,
     /// Radius of the bounding sphere.
@@ -123,6 +133,7 @@ impl Scene {
         let mut tris = Vec::new();
         let mut infos = Vec::new();
         let mut normals = Vec::new();
+        let mut uvs = Vec::new();
         let mut emissions = Vec::new();
         let mut lights = Vec::new();
         let mut dropped = 0usize;
@@ -139,6 +150,12 @@ impl Scene {
             {
                 return Err(err(format!("{} normals for {} positions", n.len(), m.positions.len())));
             }
+            if let Some(t) = &m.uvs
+                && t.len() != m.positions.len()
+            {
+                return Err(err(format!("{} texture coordinates for {} positions", t.len(), m.positions.len())));
+            }
+            let textured = !desc.materials[m.material].textures.is_empty();
             let emission = match &m.emission {
                 Some(e) if e.scale > 0.0 && e.scale.is_finite() => {
                     emissions.push(Emission { spectrum: e.spectrum.clone(), scale: e.scale, two_sided: e.two_sided });
@@ -176,6 +193,11 @@ impl Scene {
                         normals.extend(n.iter().map(|n| n.normalize()));
                     }
                 }
+                let mut uidx = NONE;
+                if textured && let Some(t) = &m.uvs {
+                    uidx = uvs.len() as u32;
+                    uvs.extend(idx.iter().map(|&i| t[i as usize]));
+                }
                 for p in v {
                     lo = lo.min(p);
                     hi = hi.max(p);
@@ -186,7 +208,13 @@ impl Scene {
                     lights.push(Light::Area { tri: TriangleGeom::new(v[0], v[1], v[2]), emission });
                 }
                 tris.push(v);
-                infos.push(TriangleInfo { material: m.material as u32, light, normals: nidx, mesh: mi as u32 });
+                infos.push(TriangleInfo {
+                    material: m.material as u32,
+                    light,
+                    normals: nidx,
+                    mesh: mi as u32,
+                    uvs: uidx,
+                });
             }
         }
         let (center, radius) = if tris.is_empty() {
@@ -244,6 +272,9 @@ impl Scene {
             infinite_lights,
             light_sampler,
             normals,
+            uvs,
+            textures: desc.textures.clone(),
+            material_textures: desc.materials.iter().map(|m| m.textures.clone()).collect(),
             center,
             radius,
             dropped_triangles: dropped,
@@ -277,7 +308,26 @@ impl Scene {
                 ns = if s.dot(ng) < 0.0 { -s } else { s };
             }
         }
-        SurfaceInteraction { p, p_err, ng, ns, t: h.t, prim: h.prim, material: info.material, light: info.light }
+        let mut uv = Vec2::ZERO;
+        if info.uvs != NONE {
+            let t = &self.uvs[info.uvs as usize..info.uvs as usize + 3];
+            uv = t[0] * (1.0 - h.b1 - h.b2) + t[1] * h.b1 + t[2] * h.b2;
+        }
+        SurfaceInteraction { p, p_err, ng, ns, t: h.t, prim: h.prim, material: info.material, light: info.light, uv }
+    }
+
+    /// The material at a surface point: the material table's entry, or for a textured (glTF)
+    /// material the one its factors times the texels at `si.uv` map to.
+    #[inline]
+    pub fn material_at(&self, si: &SurfaceInteraction) -> Cow<'_, Material> {
+        let m = si.material as usize;
+        match self.material_textures.get(m) {
+            Some(t) if !t.is_empty() => match t.params_at(&self.textures, si.uv) {
+                Some(p) => Cow::Owned(pbr_material(&p)),
+                None => Cow::Borrowed(&self.materials[m]),
+            },
+            _ => Cow::Borrowed(&self.materials[m]),
+        }
     }
 
     /// Number of triangles.

@@ -69,7 +69,8 @@ pub fn radiance(
         if settings.max_depth.is_some_and(|m| depth >= m) {
             break;
         }
-        let bsdf = scene.materials[si.material as usize].bsdf(wl);
+        let material = scene.material_at(&si);
+        let bsdf = material.bsdf(wl);
         let frame = si.frame();
         let wo_local = frame.to_local(wo);
         if !bsdf.is_specular() {
