@@ -4,7 +4,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use quasar::job::{JobOverrides, load_scene, load_scene_with, render_desc, write_outputs};
+use quasar::job::{JobOverrides, load_scene, load_scene_with, render_desc, write_outputs_with_exposure};
 use quasar::method::BidirectionalOptions;
 use quasar::scene::Scene;
 use quasar_importers::ImportOptions;
@@ -93,6 +93,9 @@ enum Command {
         /// --spp / --iterations or a new --time extends it).
         #[arg(long)]
         resume: Option<PathBuf>,
+        /// Exposure of the PNG preview in stops (the preview is scaled by 2^EV before clipping).
+        #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+        exposure: f32,
         /// Also write a tone-mapped PNG preview.
         #[arg(long)]
         preview: Option<PathBuf>,
@@ -290,6 +293,7 @@ fn run() -> anyhow::Result<()> {
             checkpoint,
             resume,
             preview,
+            exposure,
             quiet,
         } => {
             let desc = load_scene_with(&scene, &ImportOptions { allow_external_paths, ..Default::default() })?;
@@ -325,7 +329,7 @@ fn run() -> anyhow::Result<()> {
             if same_file(&scene, &exr) || preview.as_ref().is_some_and(|p| same_file(&scene, p)) {
                 anyhow::bail!("{}: the output would overwrite the scene file", exr.display());
             }
-            write_outputs(&out, &exr, preview.as_ref())?;
+            write_outputs_with_exposure(&out, &exr, preview.as_ref(), exposure)?;
             if out.result.interrupted {
                 eprintln!("interrupted: wrote the partial image {} ({} spp)", exr.display(), out.result.spp);
             }
