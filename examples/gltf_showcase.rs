@@ -4,7 +4,9 @@
 //! KHR_texture_transform, base-colour and metallic-roughness textures, a multi-primitive mesh and
 //! an instanced mesh.
 //!
-//! Run: `cargo run --release --example gltf_showcase [OUT_DIR]` (default `scenes/gltf-showcase`).
+//! Run: `cargo run --release --example gltf_showcase [OUT_DIR [SEED_DIR]]` (default
+//! `scenes/gltf-showcase`); with SEED_DIR it also writes small self-contained fuzzing seeds there
+//! (`showcase.glb` with embedded textures and coarse spheres, `showcase-data-uri.gltf`).
 //! Render: `cargo run --release -- render scenes/gltf-showcase/showcase.gltf -o showcase.exr`.
 
 use std::f32::consts::PI;
@@ -91,6 +93,34 @@ fn png(size: u32, f: impl Fn(u32, u32) -> [u8; 4]) -> Vec<u8> {
 fn main() -> std::io::Result<()> {
     let dir = PathBuf::from(std::env::args().nth(1).unwrap_or_else(|| "scenes/gltf-showcase".into()));
     std::fs::create_dir_all(&dir)?;
+    let (checker, stripes) = textures();
+    std::fs::write(dir.join("checker.png"), &checker)?;
+    std::fs::write(dir.join("stripes.png"), &stripes)?;
+    let w = build(None, 48);
+    let (json, bin) = w.to_gltf(&BinStorage::External("showcase.bin".into()));
+    std::fs::write(dir.join("showcase.gltf"), json)?;
+    std::fs::write(dir.join("showcase.bin"), bin)?;
+    println!("wrote {}", dir.join("showcase.gltf").display());
+    if let Some(seeds) = std::env::args().nth(2).map(PathBuf::from) {
+        std::fs::create_dir_all(&seeds)?;
+        let w = build(Some((&checker, &stripes)), 6);
+        std::fs::write(seeds.join("showcase.glb"), w.to_glb())?;
+        std::fs::write(seeds.join("showcase-data-uri.gltf"), w.to_gltf(&BinStorage::DataUri).0)?;
+        println!("wrote seeds to {}", seeds.display());
+    }
+    Ok(())
+}
+
+/// The two PNG textures: a checker (sRGB base colour) and a metallic-roughness stripe map.
+fn textures() -> (Vec<u8>, Vec<u8>) {
+    let checker = png(64, |x, y| if (x / 8 + y / 8) % 2 == 0 { [230, 226, 215, 255] } else { [40, 70, 120, 255] });
+    let stripes = png(32, |x, _| if (x / 4) % 2 == 0 { [0, 40, 255, 255] } else { [0, 200, 0, 255] });
+    (checker, stripes)
+}
+
+/// The showcase document; `embed` = the PNG bytes to store in the buffer (else external URIs),
+/// `seg` = sphere segments.
+fn build(embed: Option<(&[u8], &[u8])>, seg: u32) -> GltfWriter {
     let mut w = GltfWriter::new();
     for e in [
         "KHR_lights_punctual",
@@ -102,13 +132,16 @@ fn main() -> std::io::Result<()> {
     ] {
         w.use_extension(e, false);
     }
-    // textures: a checker (sRGB base colour) and a metallic-roughness stripe map
-    let checker = png(64, |x, y| if (x / 8 + y / 8) % 2 == 0 { [230, 226, 215, 255] } else { [40, 70, 120, 255] });
-    let stripes = png(32, |x, _| if (x / 4) % 2 == 0 { [0, 40, 255, 255] } else { [0, 200, 0, 255] });
-    std::fs::write(dir.join("checker.png"), checker)?;
-    std::fs::write(dir.join("stripes.png"), stripes)?;
-    GltfWriter::push(&mut w.images, r#"{"uri":"checker.png","name":"checker"}"#);
-    GltfWriter::push(&mut w.images, r#"{"uri":"stripes.png","name":"stripes"}"#);
+    match embed {
+        Some((checker, stripes)) => {
+            w.image(checker, "image/png");
+            w.image(stripes, "image/png");
+        }
+        None => {
+            GltfWriter::push(&mut w.images, r#"{"uri":"checker.png","name":"checker"}"#);
+            GltfWriter::push(&mut w.images, r#"{"uri":"stripes.png","name":"stripes"}"#);
+        }
+    }
     GltfWriter::push(&mut w.samplers, r#"{"magFilter":9728,"wrapS":10497,"wrapT":10497}"#);
     GltfWriter::push(&mut w.textures, r#"{"source":0,"sampler":0}"#);
     GltfWriter::push(&mut w.textures, r#"{"source":1}"#);
@@ -151,9 +184,9 @@ fn main() -> std::io::Result<()> {
         Prim { position, normal, uv, indices, material: Some(floor_mat), mode: None }
     };
     let floor_mesh = w.mesh("Floor", &[floor]);
-    let glass_prim = sphere(&mut w, 0.45, 48, glass);
+    let glass_prim = sphere(&mut w, 0.45, seg, glass);
     let glass_mesh = w.mesh("GlassBall", &[glass_prim]);
-    let gold_prim = sphere(&mut w, 0.2, 32, gold);
+    let gold_prim = sphere(&mut w, 0.2, (seg * 2 / 3).max(4), gold);
     let gold_mesh = w.mesh("GoldBall", &[gold_prim]);
     // one mesh, two primitives with two materials: a red block with a striped metal lid
     let body = cuboid(&mut w, [-0.35, 0.0, -0.35], [0.35, 0.5, 0.35], red);
@@ -202,9 +235,5 @@ fn main() -> std::io::Result<()> {
         let i = GltfWriter::push(&mut w.nodes, n);
         w.roots.push(i);
     }
-    let (json, bin) = w.to_gltf(&BinStorage::External("showcase.bin".into()));
-    std::fs::write(dir.join("showcase.gltf"), json)?;
-    std::fs::write(dir.join("showcase.bin"), bin)?;
-    println!("wrote {}", dir.join("showcase.gltf").display());
-    Ok(())
+    w
 }

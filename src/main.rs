@@ -185,9 +185,50 @@ enum BenchCommand {
         #[arg(long)]
         plot: Option<PathBuf>,
     },
+    /// Import time and peak memory of a large generated glTF (a k x k grid as .glb).
+    GltfImport {
+        /// Grid side k: 2 k^2 triangles (708 gives 1 002 528).
+        #[arg(long, default_value_t = 708)]
+        grid: u32,
+        /// Where to write the .glb (default: a temporary directory).
+        #[arg(long)]
+        file: Option<PathBuf>,
+    },
 }
 
 fn bench(cmd: BenchCommand) -> anyhow::Result<()> {
+    let (grid, file) = match cmd {
+        BenchCommand::GltfImport { grid, file } => (grid, file),
+        c => return bench_convergence(c),
+    };
+    anyhow::ensure!((1..=16384).contains(&grid), "--grid must be in 1..=16384");
+    let tmp = tempfile_dir()?;
+    let path = file.unwrap_or_else(|| tmp.join("grid.glb"));
+    let triangles = 2 * u64::from(grid) * u64::from(grid);
+    let t = std::time::Instant::now();
+    let bytes = quasar::import_bench::write_grid_glb(&path, grid)?;
+    eprintln!("wrote {} ({triangles} triangles, {bytes} bytes) in {:.2} s", path.display(), t.elapsed().as_secs_f64());
+    let r = quasar::import_bench::run(&path, triangles)?;
+    let mib = |v: Option<f64>| v.map_or("n/a".to_owned(), |v| format!("{v:.0} MiB"));
+    println!("triangles: {}", r.triangles);
+    println!("file: {:.1} MiB", r.file_bytes as f64 / (1 << 20) as f64);
+    println!("import: {:.3} s ({:.2} M triangles/s)", r.import_s, r.triangles as f64 / r.import_s / 1e6);
+    println!("compile (BVH): {:.3} s", r.compile_s);
+    println!("rss before import: {}", mib(r.rss_before_mib));
+    println!("peak rss during import: {}", mib(r.peak_import_mib));
+    println!("peak rss during import + compile: {}", mib(r.peak_total_mib));
+    let _ = std::fs::remove_dir_all(&tmp);
+    Ok(())
+}
+
+/// A fresh directory under the system temporary directory.
+fn tempfile_dir() -> anyhow::Result<PathBuf> {
+    let d = std::env::temp_dir().join(format!("quasar-bench-{}", std::process::id()));
+    std::fs::create_dir_all(&d)?;
+    Ok(d)
+}
+
+fn bench_convergence(cmd: BenchCommand) -> anyhow::Result<()> {
     let BenchCommand::Convergence {
         scene,
         methods,
@@ -202,7 +243,10 @@ fn bench(cmd: BenchCommand) -> anyhow::Result<()> {
         seed,
         csv,
         plot,
-    } = cmd;
+    } = cmd
+    else {
+        anyhow::bail!("not a convergence benchmark");
+    };
     use quasar::convergence;
     let methods = convergence::parse_methods(&methods)?;
     if !(time > 0.0 && time.is_finite()) || steps == 0 || steps > 20 {
