@@ -92,6 +92,34 @@ fn triangle_key(v: &[Vec3; 3]) -> [u32; 9] {
     k
 }
 
+/// The shading normal `ns` perturbed by tangent-space normal `n` (glTF convention: +X along
+/// increasing u, +Y along decreasing v, +Z = `ns`), with the tangent frame from the triangle's
+/// texture coordinates `uv`; `ns` unchanged when the frame or the result is degenerate. The result
+/// stays on the side of `ng`.
+fn normal_mapped(g: &TriangleGeom, uv: &[Vec2], ns: Vec3, ng: Vec3, n: Vec3) -> Vec3 {
+    let (d1, d2) = (uv[1] - uv[0], uv[2] - uv[0]);
+    let det = d1.x * d2.y - d1.y * d2.x;
+    if det == 0.0 || !det.is_finite() {
+        return ns;
+    }
+    let (e1, e2) = (Vec3::from(g.e1), Vec3::from(g.e2));
+    let dpdu = (e1 * d2.y - e2 * d1.y) / det;
+    let dpdv = (e2 * d1.x - e1 * d2.x) / det;
+    let t = (dpdu - ns * ns.dot(dpdu)).normalize_or_zero();
+    if t == Vec3::ZERO || !t.is_finite() {
+        return ns;
+    }
+    let mut b = ns.cross(t);
+    if b.dot(dpdv) > 0.0 {
+        b = -b;
+    }
+    let m = (t * n.x + b * n.y + ns * n.z).normalize_or_zero();
+    if m == Vec3::ZERO || !m.is_finite() {
+        return ns;
+    }
+    if m.dot(ng) < 0.0 { -m } else { m }
+}
+
 /// The render-time scene.
 pub struct Scene {
     /// Triangles and BVH.
@@ -312,6 +340,9 @@ impl Scene {
         if info.uvs != NONE {
             let t = &self.uvs[info.uvs as usize..info.uvs as usize + 3];
             uv = t[0] * (1.0 - h.b1 - h.b2) + t[1] * h.b1 + t[2] * h.b2;
+            if let Some(n) = self.material_textures[info.material as usize].normal_at(&self.textures, uv) {
+                ns = normal_mapped(g, t, ns, ng, n);
+            }
         }
         SurfaceInteraction { p, p_err, ng, ns, t: h.t, prim: h.prim, material: info.material, light: info.light, uv }
     }

@@ -110,3 +110,40 @@ fn base_colour_texture_is_shaded() {
         assert!(rb > 3.0 * rr.max(1e-12), "right is blue: {rr} {rb}");
     }
 }
+
+/// A floor (normal +y, u along +x, v decreasing towards -z) with a constant normal map `rgb`.
+fn normal_mapped_floor_normal(rgb: [u8; 3]) -> glam::Vec3 {
+    let img = image::RgbaImage::from_pixel(2, 2, image::Rgba([rgb[0], rgb[1], rgb[2], 255]));
+    let mut png = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut png, image::ImageFormat::Png).unwrap();
+    let mut w = floor_scene(1.0, 1.0, None);
+    let i = w.image(png.get_ref(), "image/png");
+    let t = GltfWriter::push(&mut w.textures, &format!(r#"{{"source":{i}}}"#));
+    w.materials[0] = format!(r#"{{"pbrMetallicRoughness":{{"metallicFactor":0}},"normalTexture":{{"index":{t}}}}}"#);
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("n.glb");
+    std::fs::write(&p, w.to_glb()).unwrap();
+    let desc = import_scene(&p, &ImportOptions::default()).unwrap();
+    assert!(desc.warnings.is_empty(), "{:?}", desc.warnings);
+    let scene = quasar::scene::Scene::compile(&desc).unwrap();
+    let ray = quasar::geometry::Ray::new(glam::Vec3::new(0.3, 2.0, 0.2), -glam::Vec3::Y); // (-0, -1, -0): an exactly axis-parallel ray
+    let si = scene.intersect(&ray).expect("hits the floor");
+    assert!((si.ng - glam::Vec3::Y).length() < 1e-5);
+    si.ns
+}
+
+#[test]
+fn normal_maps_tilt_the_shading_normal() {
+    // flat map: unchanged
+    let n = normal_mapped_floor_normal([128, 128, 255]);
+    assert!((n - glam::Vec3::Y).length() < 0.01, "{n}");
+    // +X of the map = the direction of increasing u (+x)
+    let n = normal_mapped_floor_normal([255, 128, 128]);
+    assert!((n - glam::Vec3::X).length() < 0.02, "{n}");
+    // +Y of the map = "up" in the image = decreasing v (-z here)
+    let n = normal_mapped_floor_normal([128, 255, 128]);
+    assert!((n + glam::Vec3::Z).length() < 0.02, "{n}");
+    // halfway: 45 degrees towards +x
+    let n = normal_mapped_floor_normal([218, 128, 218]);
+    assert!((n - glam::Vec3::new(1.0, 0.0, 0.0).lerp(glam::Vec3::Y, 0.5).normalize()).length() < 0.02, "{n}");
+}

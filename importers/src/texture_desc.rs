@@ -151,12 +151,25 @@ pub struct MaterialTextures {
     pub base_color: Option<TextureRef>,
     /// Metallic (blue channel) and roughness (green channel), linear; multiply the factors.
     pub metallic_roughness: Option<TextureRef>,
+    /// Tangent-space normal map (linear, +X right, +Y up in the image, +Z out of the surface).
+    pub normal: Option<TextureRef>,
+    /// glTF `normalTexture.scale`: multiplies the map's X and Y.
+    pub normal_scale: f32,
 }
 
 impl MaterialTextures {
     /// True when no texture is used.
     pub fn is_empty(&self) -> bool {
         self.pbr.is_none()
+    }
+
+    /// The tangent-space normal at mesh texture coordinates `uv` (not normalised; `None`
+    /// without a normal map).
+    pub fn normal_at(&self, textures: &[TextureDesc], uv: Vec2) -> Option<glam::Vec3> {
+        let r = self.normal.as_ref()?;
+        let c = textures.get(r.texture)?.sample(r.map(uv), false);
+        let s = self.normal_scale;
+        Some(glam::Vec3::new((2.0 * c[0] - 1.0) * s, (2.0 * c[1] - 1.0) * s, 2.0 * c[2] - 1.0))
     }
 
     /// The glTF parameters at mesh texture coordinates `uv` (factors times texels).

@@ -87,13 +87,20 @@ pub(super) fn convert(
         textures.metallic_roughness =
             Some(loader.reference(&info, &format!("{ptr}/pbrMetallicRoughness/metallicRoughnessTexture"))?);
     }
-    if m.normal_texture().is_some() {
-        loader.warnings.push(format!(
-            "{}: {ptr}: normal textures are not applied (shading uses the mesh normals)",
-            file.display()
-        ));
+    if let Some(n) = m.normal_texture() {
+        let np = format!("{ptr}/normalTexture");
+        let r = loader.load(&n.texture(), &np)?;
+        if n.tex_coord() != 0 {
+            loader.warnings.push(format!(
+                "{}: {np}: uses TEXCOORD_{}; only TEXCOORD_0 is supported, it is used instead",
+                file.display(),
+                n.tex_coord()
+            ));
+        }
+        textures.normal = Some(crate::texture_desc::TextureRef::new(r));
+        textures.normal_scale = finite(n.scale(), 1.0);
     }
-    if textures.base_color.is_some() || textures.metallic_roughness.is_some() {
+    if textures.base_color.is_some() || textures.metallic_roughness.is_some() || textures.normal.is_some() {
         textures.pbr = Some(p);
     }
     let strength = finite(m.emissive_strength().unwrap_or(1.0), 1.0).max(0.0);

@@ -104,7 +104,8 @@ impl TextureLoader<'_> {
         Ok(r)
     }
 
-    fn load(&mut self, tex: &gltf::Texture<'_>, pointer: &str) -> Result<usize, ImportError> {
+    /// The scene texture index of glTF texture `tex` (decoded on first use).
+    pub fn load(&mut self, tex: &gltf::Texture<'_>, pointer: &str) -> Result<usize, ImportError> {
         if let Some(&i) = self.cache.get(&tex.index()) {
             return Ok(i);
         }
