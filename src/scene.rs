@@ -80,6 +80,12 @@ impl SurfaceInteraction {
     }
 }
 
+/// Largest |coordinate| (metres) of a vertex that is kept: triangles further out are dropped like
+/// non-finite ones. Beyond it, squared extents in the BVH builder's surface-area costs overflow
+/// f32 and obvhs builds an invalid tree (an index out of bounds, found by fuzzing); 1e15 m is ten
+/// orders of magnitude past the largest scene scale DESIGN.md asks for (1e5 m).
+pub const MAX_COORDINATE: f32 = 1e15;
+
 /// A key equal for the same triangle with any rotation of its vertices (same orientation).
 fn triangle_key(v: &[Vec3; 3]) -> [u32; 9] {
     let bits = |p: Vec3| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
@@ -150,7 +156,8 @@ pub struct Scene {
     pub center: Vec3,
     /// Radius of the bounding sphere.
     pub radius: f32,
-    /// Number of triangles that were dropped because a vertex was not finite or the area is 0.
+    /// Number of triangles that were dropped because a vertex was not finite or beyond
+    /// [`MAX_COORDINATE`], the area is 0, or the triangle repeats another.
     pub dropped_triangles: usize,
 }
 
@@ -202,8 +209,10 @@ impl Scene {
                 }
                 // non-finite or zero-area (in f32) triangles can never be hit (the intersection
                 // determinant is 0) or sampled; left in, masses of them (a sphere of radius 1e-45)
-                // make the BVH build quadratic
-                if !v.iter().all(|p| p.is_finite()) || (v[1] - v[0]).cross(v[2] - v[0]) == Vec3::ZERO {
+                // make the BVH build quadratic; too distant ones (MAX_COORDINATE) break the build
+                if !v.iter().all(|p| p.is_finite() && p.abs().max_element() <= MAX_COORDINATE)
+                    || (v[1] - v[0]).cross(v[2] - v[0]) == Vec3::ZERO
+                {
                     dropped += 1;
                     continue;
                 }

@@ -106,6 +106,24 @@ fn parse_error(path: &Path, e: gltf::Error) -> ImportError {
     }
 }
 
+/// Checks a GLB header's total length before the `gltf` crate subtracts the header size from it
+/// (an overflow for lengths < 12, found by fuzzing).
+fn check_glb_header(path: &Path, bytes: &[u8]) -> Result<(), ImportError> {
+    if bytes.len() < 12 || !bytes.starts_with(b"glTF") {
+        return Ok(());
+    }
+    let length = u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]) as usize;
+    if length < 12 || length > bytes.len() {
+        return Err(err(
+            ImportErrorKind::Syntax,
+            path,
+            "",
+            format!("invalid GLB container: the header's length {length} is not within 12..={}", bytes.len()),
+        ));
+    }
+    Ok(())
+}
+
 /// Loads every buffer's bytes (GLB chunk, data URI or file) and checks their lengths.
 fn load_buffers(
     doc: &gltf::Document,
@@ -145,6 +163,7 @@ fn load_buffers(
 pub fn import_gltf(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportError> {
     let scale = opts.scale(path)?;
     let bytes = source::read_bounded(path, "glTF file")?;
+    check_glb_header(path, &bytes)?;
     let g = gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| parse_error(path, e))?;
     drop(bytes);
     let gltf::Gltf { document, blob } = g;
