@@ -457,6 +457,23 @@ fn malformed_files_give_clear_errors() {
     let (_, e) = import_err(&d.gltf("ref", &w));
     assert!(e.contains("/nodes/0/mesh"), "{e}");
 
+    // a POSITION accessor that does not exist (the gltf crate's validation would index with it)
+    let mut w = GltfWriter::new();
+    let m = w.mesh("bad", &[Prim { position: 99, ..Default::default() }]);
+    let n = node(&mut w, &format!("{{\"mesh\":{m}}}"));
+    w.roots.push(n);
+    let (_, e) = import_err(&d.gltf("pos", &w));
+    assert!(
+        e.contains("/meshes/0/primitives/0/attributes/POSITION") && e.contains("accessor 99 does not exist"),
+        "{e}"
+    );
+
+    // GLB header whose length is shorter than the header
+    let mut glb = simple().to_glb();
+    glb[8..12].copy_from_slice(&4u32.to_le_bytes());
+    let (_, e) = import_err(&d.write("hdr.glb", &glb));
+    assert!(e.contains("hdr.glb") && e.contains("header's length 4"), "{e}");
+
     // truncated GLB
     let glb = simple().to_glb();
     let (k, e) = import_err(&d.write("cut.glb", &glb[..glb.len() - 7]));

@@ -124,6 +124,31 @@ fn check_glb_header(path: &Path, bytes: &[u8]) -> Result<(), ImportError> {
     Ok(())
 }
 
+/// Checks that every `POSITION` attribute names an existing accessor: the `gltf` crate's
+/// validation indexes the accessor list with it unchecked (a panic, found by fuzzing).
+fn check_position_accessors(path: &Path, root: &gltf::json::Root) -> Result<(), ImportError> {
+    let n = root.accessors.len();
+    for (mi, m) in root.meshes.iter().enumerate() {
+        for (pi, p) in m.primitives.iter().enumerate() {
+            for (sem, a) in &p.attributes {
+                if a.value() >= n {
+                    let name = match sem {
+                        gltf::json::validation::Checked::Valid(s) => s.to_string(),
+                        gltf::json::validation::Checked::Invalid => "(invalid)".into(),
+                    };
+                    return Err(err(
+                        ImportErrorKind::InvalidValue,
+                        path,
+                        &format!("/meshes/{mi}/primitives/{pi}/attributes/{name}"),
+                        format!("accessor {} does not exist (the file has {n})", a.value()),
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Loads every buffer's bytes (GLB chunk, data URI or file) and checks their lengths.
 fn load_buffers(
     doc: &gltf::Document,
@@ -193,6 +218,7 @@ pub fn import_gltf(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Impor
     }
     // checked above (the `gltf` crate's own list lacks some extensions we approximate)
     root.extensions_required.clear();
+    check_position_accessors(path, &root)?;
     let doc = gltf::Document::from_json(root).map_err(|e| parse_error(path, e))?;
     let buffers = load_buffers(&doc, blob, path, opts)?;
 
