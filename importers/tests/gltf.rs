@@ -468,6 +468,17 @@ fn malformed_files_give_clear_errors() {
         "{e}"
     );
 
+    // fields the gltf crate would unwrap: an image in a bufferView without mimeType, a camera
+    // whose projection object does not match its type
+    let mut w = textured_quad(&png(1, 1, |_, _| [255; 4]));
+    w.images[0] = w.images[0].replace(",\"mimeType\":\"image/png\"", "");
+    let (_, e) = import_err(&d.gltf("mime", &w));
+    assert!(e.contains("/images/0") && e.contains("mimeType"), "{e}");
+    let mut w = simple();
+    GltfWriter::push(&mut w.cameras, r#"{"type":"orthographic","perspective":{"yfov":1,"znear":0.1}}"#);
+    let (_, e) = import_err(&d.gltf("camtype", &w));
+    assert!(e.contains("/cameras/0") && e.contains("projection"), "{e}");
+
     // GLB header whose length is shorter than the header
     let mut glb = simple().to_glb();
     glb[8..12].copy_from_slice(&4u32.to_le_bytes());

@@ -21,6 +21,7 @@
 mod accessor;
 mod material;
 mod nodes;
+mod precheck;
 mod source;
 mod texture;
 pub mod writer;
@@ -106,49 +107,6 @@ fn parse_error(path: &Path, e: gltf::Error) -> ImportError {
     }
 }
 
-/// Checks a GLB header's total length before the `gltf` crate subtracts the header size from it
-/// (an overflow for lengths < 12, found by fuzzing).
-fn check_glb_header(path: &Path, bytes: &[u8]) -> Result<(), ImportError> {
-    if bytes.len() < 12 || !bytes.starts_with(b"glTF") {
-        return Ok(());
-    }
-    let length = u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]) as usize;
-    if length < 12 || length > bytes.len() {
-        return Err(err(
-            ImportErrorKind::Syntax,
-            path,
-            "",
-            format!("invalid GLB container: the header's length {length} is not within 12..={}", bytes.len()),
-        ));
-    }
-    Ok(())
-}
-
-/// Checks that every `POSITION` attribute names an existing accessor: the `gltf` crate's
-/// validation indexes the accessor list with it unchecked (a panic, found by fuzzing).
-fn check_position_accessors(path: &Path, root: &gltf::json::Root) -> Result<(), ImportError> {
-    let n = root.accessors.len();
-    for (mi, m) in root.meshes.iter().enumerate() {
-        for (pi, p) in m.primitives.iter().enumerate() {
-            for (sem, a) in &p.attributes {
-                if a.value() >= n {
-                    let name = match sem {
-                        gltf::json::validation::Checked::Valid(s) => s.to_string(),
-                        gltf::json::validation::Checked::Invalid => "(invalid)".into(),
-                    };
-                    return Err(err(
-                        ImportErrorKind::InvalidValue,
-                        path,
-                        &format!("/meshes/{mi}/primitives/{pi}/attributes/{name}"),
-                        format!("accessor {} does not exist (the file has {n})", a.value()),
-                    ));
-                }
-            }
-        }
-    }
-    Ok(())
-}
-
 /// Loads every buffer's bytes (GLB chunk, data URI or file) and checks their lengths.
 fn load_buffers(
     doc: &gltf::Document,
@@ -188,7 +146,7 @@ fn load_buffers(
 pub fn import_gltf(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportError> {
     let scale = opts.scale(path)?;
     let bytes = source::read_bounded(path, "glTF file")?;
-    check_glb_header(path, &bytes)?;
+    precheck::glb_header(path, &bytes)?;
     let g = gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| parse_error(path, e))?;
     drop(bytes);
     let gltf::Gltf { document, blob } = g;
@@ -218,7 +176,7 @@ pub fn import_gltf(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Impor
     }
     // checked above (the `gltf` crate's own list lacks some extensions we approximate)
     root.extensions_required.clear();
-    check_position_accessors(path, &root)?;
+    precheck::before_validation(path, &root)?;
     let doc = gltf::Document::from_json(root).map_err(|e| parse_error(path, e))?;
     let buffers = load_buffers(&doc, blob, path, opts)?;
 
