@@ -26,6 +26,10 @@ enum Command {
         /// Let glTF files refer to files by absolute paths or outside their folder.
         #[arg(long)]
         allow_external_paths: bool,
+        /// Extra length unit of the scene file (m, cm, mm, in, ft, or a factor in metres), e.g.
+        /// `--units mm` for a glTF exported in millimetres (applies on top of a TOML `units`).
+        #[arg(long, value_parser = parse_units)]
+        units: Option<f32>,
         /// Output EXR (default: the scene's name with .exr, in the current directory).
         #[arg(short, long)]
         output: Option<PathBuf>,
@@ -138,6 +142,9 @@ enum Command {
         /// Let glTF files refer to files by absolute paths or outside their folder.
         #[arg(long)]
         allow_external_paths: bool,
+        /// Extra length unit of the scene file (as for `render`).
+        #[arg(long, value_parser = parse_units)]
+        units: Option<f32>,
     },
 }
 
@@ -290,6 +297,17 @@ fn bench_convergence(cmd: BenchCommand) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Parses `--units`: a unit name of the TOML `units` key or a positive factor in metres.
+fn parse_units(s: &str) -> Result<f32, String> {
+    if let Some((_, m)) = quasar_importers::toml_scene::UNITS.iter().find(|(n, _)| *n == s) {
+        return Ok(*m);
+    }
+    match s.parse::<f32>() {
+        Ok(f) if f.is_finite() && f > 0.0 => Ok(f),
+        _ => Err(format!("expected m, cm, mm, in, ft or a positive number of metres, got {s:?}")),
+    }
+}
+
 /// Parses `K/N` for `--shard`.
 fn parse_shard(s: &str) -> Result<(u32, u32), String> {
     let (k, n) = s.split_once('/').ok_or("expected K/N, e.g. 0/4")?;
@@ -315,6 +333,7 @@ fn run() -> anyhow::Result<()> {
         Command::Render {
             scene,
             allow_external_paths,
+            units,
             output,
             method,
             spp,
@@ -340,7 +359,7 @@ fn run() -> anyhow::Result<()> {
             exposure,
             quiet,
         } => {
-            let desc = load_scene_with(&scene, &ImportOptions { allow_external_paths, ..Default::default() })?;
+            let desc = load_scene_with(&scene, &ImportOptions { allow_external_paths, units_scale: units })?;
             quasar::interrupt::install_handler();
             let ov = JobOverrides {
                 width,
@@ -419,8 +438,8 @@ fn run() -> anyhow::Result<()> {
             Ok(())
         }
         Command::Bench { what } => bench(what),
-        Command::Info { scene, allow_external_paths } => {
-            let desc = load_scene_with(&scene, &ImportOptions { allow_external_paths, ..Default::default() })?;
+        Command::Info { scene, allow_external_paths, units } => {
+            let desc = load_scene_with(&scene, &ImportOptions { allow_external_paths, units_scale: units })?;
             let compiled = Scene::compile(&desc)?;
             println!("scene: {}", scene.display());
             println!("meshes: {}, triangles: {}", desc.meshes.len(), compiled.triangle_count());
