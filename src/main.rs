@@ -445,7 +445,21 @@ fn run() -> anyhow::Result<()> {
             println!("meshes: {}, triangles: {}", desc.meshes.len(), compiled.triangle_count());
             println!("materials: {}", desc.materials.len());
             for m in &desc.materials {
-                println!("  {}: {:?}", m.name, m.material);
+                let tex = if m.textures.is_empty() { "" } else { " (textured)" };
+                println!("  {}: {:?}{tex}", m.name, m.material);
+            }
+            if !desc.textures.is_empty() {
+                let t: Vec<String> =
+                    desc.textures.iter().map(|t| format!("{} {}x{}", t.name, t.width, t.height)).collect();
+                println!("textures: {}", t.join(", "));
+            }
+            if !desc.cameras.is_empty() {
+                let c: Vec<&str> = desc.cameras.iter().map(|c| c.name.as_str()).collect();
+                println!(
+                    "cameras in the file: {} (the scene camera looks from {})",
+                    c.join(", "),
+                    desc.camera.position
+                );
             }
             println!(
                 "lights: {} ({} emissive triangles)",

@@ -559,3 +559,22 @@ material = "matte"
     let s = import(&d.write("e.toml", toml("").replace("match = \"Paint\"", "match = \"Car:Body:*\"")));
     assert!(s.meshes.iter().all(|m| s.materials[m.material].name == "matte"));
 }
+
+#[test]
+fn shipped_showcase_imports_cleanly() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/gltf-showcase");
+    let s = import(&dir.join("showcase.gltf"));
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    let cams: Vec<&str> = s.cameras.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(cams, ["Main", "Top"]);
+    assert_eq!((s.render.width, s.render.height), (853, 480), "16:9 aspect ratio");
+    assert_eq!(s.lights.len(), 3);
+    assert_eq!(s.textures.len(), 2);
+    assert!(s.meshes.iter().any(|m| m.emission.is_some()), "emissive panel");
+    assert!(s.materials.iter().any(|m| matches!(m.material, Material::Dielectric { .. })), "glass");
+    assert_eq!(s.meshes.iter().filter(|m| m.name.contains(":GoldBall:")).count(), 2, "instanced");
+    let t = import(&dir.join("showcase.toml"));
+    assert_eq!(t.camera, s.cameras[1].camera, "the TOML picks the Top camera");
+    let block = t.meshes.iter().find(|m| m.name == "Block:Block:RedPaint").unwrap();
+    assert_eq!(t.materials[block.material].name, "copper");
+}
