@@ -224,6 +224,7 @@ pub fn import_gltf(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Impor
     let mut materials: Vec<MaterialDesc> = Vec::new();
     let mut emissions = Vec::new();
     let mut index_of: HashMap<Option<usize>, usize> = HashMap::new();
+    let mut names: std::collections::HashSet<String> = std::collections::HashSet::new();
     let gltf_materials: Vec<gltf::Material<'_>> = doc.materials().collect();
     let mut meshes = Vec::with_capacity(collected.meshes.len());
     for (mut mesh, gm) in collected.meshes {
@@ -231,8 +232,8 @@ pub fn import_gltf(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Impor
             Some(&i) => i,
             None => {
                 let m = gm.and_then(|i| gltf_materials.get(i));
-                let names: Vec<String> = materials.iter().map(|m| m.name.clone()).collect();
-                let c = material::convert(m, path, &mut loader, &|n| names.iter().any(|x| x == n))?;
+                let c = material::convert(m, path, &mut loader, &|n| names.contains(n))?;
+                names.insert(c.desc.name.clone());
                 materials.push(c.desc);
                 emissions.push(c.emission);
                 index_of.insert(gm, materials.len() - 1);
