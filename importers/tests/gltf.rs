@@ -457,6 +457,18 @@ fn malformed_files_give_clear_errors() {
     let (_, e) = import_err(&d.gltf("ref", &w));
     assert!(e.contains("/nodes/0/mesh"), "{e}");
 
+    // a huge accessor without bufferView (all zeros) is refused before anything is allocated
+    let mut w = GltfWriter::new();
+    let position =
+        w.raw_accessor(r#"{"componentType":5126,"count":536870912,"type":"VEC3","min":[0,0,0],"max":[0,0,0]}"#);
+    let indices = Some(w.indices(&[0, 1, 2]));
+    let m = w.mesh("zeros", &[Prim { position, indices, ..Default::default() }]);
+    let n = node(&mut w, &format!("{{\"mesh\":{m}}}"));
+    w.roots.push(n);
+    let (k, e) = import_err(&d.gltf("zeros", &w));
+    assert_eq!(k, ImportErrorKind::InvalidValue, "{e}");
+    assert!(e.contains("/accessors/0/bufferView"), "{e}");
+
     // a POSITION accessor that does not exist (the gltf crate's validation would index with it)
     let mut w = GltfWriter::new();
     let m = w.mesh("bad", &[Prim { position: 99, ..Default::default() }]);

@@ -11,6 +11,9 @@ use crate::error::{ImportError, ImportErrorKind};
 
 /// Largest element count of one accessor (vertices or indices).
 pub const MAX_ACCESSOR_COUNT: u64 = 1 << 30;
+/// Largest element count of an accessor without a buffer view (all zeros: nothing in the file
+/// bounds it).
+pub const MAX_ZERO_ACCESSOR_COUNT: u64 = 1 << 20;
 
 /// The loaded buffers of a glTF file and the file, for messages.
 pub(super) struct Buffers<'a> {
@@ -55,18 +58,42 @@ fn component(b: &[u8], t: DataType, normalized: bool) -> f32 {
     }
 }
 
-impl Buffers<'_> {
-    /// Calls `f` with the bytes of every element of `acc` (after checking that the accessor's
-    /// type is one of `allowed` with `want` components and that all its bytes lie in its buffer
-    /// view and buffer). `pointer` is the JSON pointer of the reference, for messages.
-    fn elements(
+/// The checked location of an accessor's elements (`stride` 0: all zeros, no data).
+struct Layout<'b> {
+    data: &'b [u8],
+    start: usize,
+    stride: usize,
+    size: usize,
+    count: usize,
+}
+
+impl Layout<'_> {
+    /// Calls `f` with the bytes of every element.
+    fn for_each(&self, mut f: impl FnMut(&[u8])) {
+        if self.stride == 0 {
+            let zeros = vec![0u8; self.size];
+            (0..self.count).for_each(|_| f(&zeros));
+            return;
+        }
+        for i in 0..self.count {
+            let s = self.start + i * self.stride;
+            f(&self.data[s..s + self.size]);
+        }
+    }
+}
+
+impl<'a> Buffers<'a> {
+    /// Where the elements of `acc` are, after checking that the accessor's type is one of
+    /// `allowed` with `want` components and that all its bytes lie in its buffer view and buffer
+    /// (so nothing is allocated for a count the file does not back). `pointer` is the JSON
+    /// pointer of the reference, for messages.
+    fn layout(
         &self,
         acc: &Accessor<'_>,
         pointer: &str,
         want: usize,
         allowed: &[DataType],
-        mut f: impl FnMut(&[u8]),
-    ) -> Result<(), ImportError> {
+    ) -> Result<Layout<'a>, ImportError> {
         let at = format!("{pointer} (accessor {})", acc.index());
         let invalid = |msg: String| err(ImportErrorKind::InvalidValue, self.file, &at, msg);
         if acc.sparse().is_some() {
@@ -88,12 +115,18 @@ impl Buffers<'_> {
         let size = (component_size(t) * n) as u64;
         let Some(view) = acc.view() else {
             // no buffer view: all zeros (glTF 2.0 section 3.6.2.3)
-            let zeros = vec![0u8; size as usize];
-            (0..count).for_each(|_| f(&zeros));
-            return Ok(());
+            if count > MAX_ZERO_ACCESSOR_COUNT {
+                return Err(err(
+                    ImportErrorKind::TooLarge,
+                    self.file,
+                    &at,
+                    format!("count {count} of an accessor without bufferView is more than {MAX_ZERO_ACCESSOR_COUNT}"),
+                ));
+            }
+            return Ok(Layout { data: &[], start: 0, stride: 0, size: size as usize, count: count as usize });
         };
         if count == 0 {
-            return Ok(());
+            return Ok(Layout { data: &[], start: 0, stride: 0, size: size as usize, count: 0 });
         }
         let stride = view.stride().map_or(size, |s| s as u64);
         if stride < size {
@@ -125,24 +158,20 @@ impl Buffers<'_> {
                 )));
             }
         }
-        let (start, stride, size) = (start as usize, stride as usize, size as usize);
-        for i in 0..count as usize {
-            let s = start + i * stride;
-            f(&data[s..s + size]);
-        }
-        Ok(())
+        Ok(Layout { data, start: start as usize, stride: stride as usize, size: size as usize, count: count as usize })
     }
 
     /// A VEC3 FLOAT accessor (positions, normals); every value must be finite.
     pub fn vec3(&self, acc: &Accessor<'_>, pointer: &str) -> Result<Vec<Vec3>, ImportError> {
-        let mut out = Vec::with_capacity(acc.count().min(MAX_ACCESSOR_COUNT as usize));
-        self.elements(acc, pointer, 3, &[DataType::F32], |b| {
+        let l = self.layout(acc, pointer, 3, &[DataType::F32])?;
+        let mut out = Vec::with_capacity(l.count);
+        l.for_each(|b| {
             out.push(Vec3::new(
                 component(&b[0..4], DataType::F32, false),
                 component(&b[4..8], DataType::F32, false),
                 component(&b[8..12], DataType::F32, false),
             ))
-        })?;
+        });
         if let Some(i) = out.iter().position(|v| !v.is_finite()) {
             return Err(err(
                 ImportErrorKind::InvalidValue,
@@ -159,24 +188,24 @@ impl Buffers<'_> {
         let (t, norm) = (acc.data_type(), acc.normalized());
         let allowed: &[DataType] = if norm { &[DataType::U8, DataType::U16] } else { &[DataType::F32] };
         let cs = component_size(t);
-        let mut out = Vec::with_capacity(acc.count().min(MAX_ACCESSOR_COUNT as usize));
-        self.elements(acc, pointer, 2, allowed, |b| {
-            out.push(Vec2::new(component(&b[..cs], t, norm), component(&b[cs..2 * cs], t, norm)))
-        })?;
+        let l = self.layout(acc, pointer, 2, allowed)?;
+        let mut out = Vec::with_capacity(l.count);
+        l.for_each(|b| out.push(Vec2::new(component(&b[..cs], t, norm), component(&b[cs..2 * cs], t, norm))));
         Ok(out)
     }
 
     /// A SCALAR index accessor (UNSIGNED_BYTE/SHORT/INT); every index must be < `vertices`.
     pub fn indices(&self, acc: &Accessor<'_>, pointer: &str, vertices: usize) -> Result<Vec<u32>, ImportError> {
         let t = acc.data_type();
-        let mut out = Vec::with_capacity(acc.count().min(MAX_ACCESSOR_COUNT as usize));
-        self.elements(acc, pointer, 1, &[DataType::U8, DataType::U16, DataType::U32], |b| {
+        let l = self.layout(acc, pointer, 1, &[DataType::U8, DataType::U16, DataType::U32])?;
+        let mut out = Vec::with_capacity(l.count);
+        l.for_each(|b| {
             out.push(match t {
                 DataType::U8 => u32::from(b[0]),
                 DataType::U16 => u32::from(u16::from_le_bytes([b[0], b[1]])),
                 _ => u32::from_le_bytes([b[0], b[1], b[2], b[3]]),
             })
-        })?;
+        });
         if let Some(i) = out.iter().position(|&v| v as usize >= vertices) {
             return Err(err(
                 ImportErrorKind::InvalidValue,
