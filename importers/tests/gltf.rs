@@ -373,6 +373,18 @@ fn decompression_bombs_and_bad_images_are_refused() {
     let (k, e) = import_err(&d.gltf("bomb", &textured_quad(&png_header_only(100_000, 100_000))));
     assert_eq!(k, ImportErrorKind::TooLarge, "{e}");
     assert!(e.contains("bomb.gltf") && e.contains("/images/0"), "{e}");
+    // a textured material on a primitive without texture coordinates: a warning
+    let mut w = textured_quad(&png(1, 1, |_, _| [255; 4]));
+    let position = w.positions(&[[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    let m = w.mesh("no-uv", &[Prim { position, material: Some(0), ..Default::default() }]);
+    let n = node(&mut w, &format!("{{\"mesh\":{m}}}"));
+    w.roots.push(n);
+    let s = import(&d.gltf("nouv", &w));
+    assert!(
+        s.warnings.iter().any(|x| x.contains("/meshes/1/primitives/0") && x.contains("no TEXCOORD_0")),
+        "{:?}",
+        s.warnings
+    );
     let (k, e) = import_err(&d.gltf("junk", &textured_quad(b"not an image at all")));
     assert_eq!(k, ImportErrorKind::Unsupported, "{e}");
     assert!(e.contains("/images/0"), "{e}");

@@ -242,6 +242,14 @@ pub fn import_gltf(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Impor
         };
         mesh.material = si;
         mesh.emission = emissions[si].clone();
+        if mesh.uvs.is_none() && !materials[si].textures.is_empty() {
+            let at = mesh.source.item.clone().unwrap_or_default();
+            warnings.push(format!(
+                "{}: {at}: material `{}` is textured but the primitive has no TEXCOORD_0; the texel at (0, 0) is used",
+                path.display(),
+                materials[si].name
+            ));
+        }
         meshes.push(mesh);
     }
     if materials.is_empty() {
