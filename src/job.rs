@@ -56,9 +56,18 @@ pub struct JobOutput {
     pub result: RenderResult,
 }
 
-/// Loads a scene file through the importer registry.
+/// Loads a scene file through the importer registry (default options).
 pub fn load_scene(path: &Path) -> Result<SceneDesc> {
-    import_scene(path, &ImportOptions::default()).map_err(|e| anyhow::anyhow!("{e}"))
+    load_scene_with(path, &ImportOptions::default())
+}
+
+/// Loads a scene file through the importer registry and prints its import warnings to stderr.
+pub fn load_scene_with(path: &Path, opts: &ImportOptions) -> Result<SceneDesc> {
+    let desc = import_scene(path, opts).map_err(|e| anyhow::anyhow!("{e}"))?;
+    for w in &desc.warnings {
+        eprintln!("warning: {w}");
+    }
+    Ok(desc)
 }
 
 /// Renders a scene description with overrides applied.
@@ -212,11 +221,22 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
 
 /// Writes the EXR (atomically) and an optional PNG preview.
 pub fn write_outputs(out: &JobOutput, exr: &Path, preview: Option<&PathBuf>) -> Result<()> {
+    write_outputs_with_exposure(out, exr, preview, 0.0)
+}
+
+/// [`write_outputs`] with the preview scaled by 2^`exposure` (photometric scenes, e.g. glTF
+/// lights in candela, have small radiometric values; see docs/gltf.md).
+pub fn write_outputs_with_exposure(
+    out: &JobOutput,
+    exr: &Path,
+    preview: Option<&PathBuf>,
+    exposure: f32,
+) -> Result<()> {
     write_exr_atomic(&out.image, exr)?;
     if let Some(p) = preview {
         let img = &out.image;
         let get = |n: &str| img.channel(n).context("beauty channel missing");
-        write_preview_png(p, img.width as u32, img.height as u32, [get("R")?, get("G")?, get("B")?], 0.0)
+        write_preview_png(p, img.width as u32, img.height as u32, [get("R")?, get("G")?, get("B")?], exposure)
             .map_err(|e| anyhow::anyhow!(e))?;
     }
     Ok(())

@@ -14,6 +14,7 @@ pub mod compare;
 pub mod convergence;
 pub mod film;
 pub mod geometry;
+pub mod import_bench;
 pub mod integrator;
 pub mod interrupt;
 pub mod job;

@@ -4,9 +4,10 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use quasar::job::{JobOverrides, load_scene, render_desc, write_outputs};
+use quasar::job::{JobOverrides, load_scene, load_scene_with, render_desc, write_outputs_with_exposure};
 use quasar::method::BidirectionalOptions;
 use quasar::scene::Scene;
+use quasar_importers::ImportOptions;
 
 #[derive(Parser)]
 #[command(name = "quasar", version, about = "Physically based spectral renderer for lighting and CAD engineers")]
@@ -18,10 +19,17 @@ struct Cli {
 #[derive(Subcommand)]
 #[allow(clippy::large_enum_variant)] // parsed once per process; size does not matter
 enum Command {
-    /// Render a scene (.toml, .obj) to a multi-layer OpenEXR file.
+    /// Render a scene (.toml, .obj, .gltf, .glb) to a multi-layer OpenEXR file.
     Render {
         /// Scene file.
         scene: PathBuf,
+        /// Let glTF files refer to files by absolute paths or outside their folder.
+        #[arg(long)]
+        allow_external_paths: bool,
+        /// Extra length unit of the scene file (m, cm, mm, in, ft, or a factor in metres), e.g.
+        /// `--units mm` for a glTF exported in millimetres (applies on top of a TOML `units`).
+        #[arg(long, value_parser = parse_units)]
+        units: Option<f32>,
         /// Output EXR (default: the scene's name with .exr, in the current directory).
         #[arg(short, long)]
         output: Option<PathBuf>,
@@ -89,6 +97,9 @@ enum Command {
         /// --spp / --iterations or a new --time extends it).
         #[arg(long)]
         resume: Option<PathBuf>,
+        /// Exposure of the PNG preview in stops (the preview is scaled by 2^EV before clipping).
+        #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+        exposure: f32,
         /// Also write a tone-mapped PNG preview.
         #[arg(long)]
         preview: Option<PathBuf>,
@@ -140,6 +151,12 @@ enum Command {
     Info {
         /// Scene file.
         scene: PathBuf,
+        /// Let glTF files refer to files by absolute paths or outside their folder.
+        #[arg(long)]
+        allow_external_paths: bool,
+        /// Extra length unit of the scene file (as for `render`).
+        #[arg(long, value_parser = parse_units)]
+        units: Option<f32>,
     },
 }
 
@@ -237,9 +254,50 @@ enum BenchCommand {
         #[arg(long)]
         plot: Option<PathBuf>,
     },
+    /// Import time and peak memory of a large generated glTF (a k x k grid as .glb).
+    GltfImport {
+        /// Grid side k: 2 k^2 triangles (708 gives 1 002 528).
+        #[arg(long, default_value_t = 708)]
+        grid: u32,
+        /// Where to write the .glb (default: a temporary directory).
+        #[arg(long)]
+        file: Option<PathBuf>,
+    },
 }
 
 fn bench(cmd: BenchCommand) -> anyhow::Result<()> {
+    let (grid, file) = match cmd {
+        BenchCommand::GltfImport { grid, file } => (grid, file),
+        c => return bench_convergence(c),
+    };
+    anyhow::ensure!((1..=16384).contains(&grid), "--grid must be in 1..=16384");
+    let tmp = tempfile_dir()?;
+    let path = file.unwrap_or_else(|| tmp.join("grid.glb"));
+    let triangles = 2 * u64::from(grid) * u64::from(grid);
+    let t = std::time::Instant::now();
+    let bytes = quasar::import_bench::write_grid_glb(&path, grid)?;
+    eprintln!("wrote {} ({triangles} triangles, {bytes} bytes) in {:.2} s", path.display(), t.elapsed().as_secs_f64());
+    let r = quasar::import_bench::run(&path, triangles)?;
+    let mib = |v: Option<f64>| v.map_or("n/a".to_owned(), |v| format!("{v:.0} MiB"));
+    println!("triangles: {}", r.triangles);
+    println!("file: {:.1} MiB", r.file_bytes as f64 / (1 << 20) as f64);
+    println!("import: {:.3} s ({:.2} M triangles/s)", r.import_s, r.triangles as f64 / r.import_s / 1e6);
+    println!("compile (BVH): {:.3} s", r.compile_s);
+    println!("rss before import: {}", mib(r.rss_before_mib));
+    println!("peak rss during import: {}", mib(r.peak_import_mib));
+    println!("peak rss during import + compile: {}", mib(r.peak_total_mib));
+    let _ = std::fs::remove_dir_all(&tmp);
+    Ok(())
+}
+
+/// A fresh directory under the system temporary directory.
+fn tempfile_dir() -> anyhow::Result<PathBuf> {
+    let d = std::env::temp_dir().join(format!("quasar-bench-{}", std::process::id()));
+    std::fs::create_dir_all(&d)?;
+    Ok(d)
+}
+
+fn bench_convergence(cmd: BenchCommand) -> anyhow::Result<()> {
     let BenchCommand::Convergence {
         scene,
         methods,
@@ -254,7 +312,10 @@ fn bench(cmd: BenchCommand) -> anyhow::Result<()> {
         seed,
         csv,
         plot,
-    } = cmd;
+    } = cmd
+    else {
+        anyhow::bail!("not a convergence benchmark");
+    };
     use quasar::convergence;
     let methods = convergence::parse_methods(&methods)?;
     if !(time > 0.0 && time.is_finite()) || steps == 0 || steps > 20 {
@@ -298,6 +359,17 @@ fn bench(cmd: BenchCommand) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Parses `--units`: a unit name of the TOML `units` key or a positive factor in metres.
+fn parse_units(s: &str) -> Result<f32, String> {
+    if let Some((_, m)) = quasar_importers::toml_scene::UNITS.iter().find(|(n, _)| *n == s) {
+        return Ok(*m);
+    }
+    match s.parse::<f32>() {
+        Ok(f) if f.is_finite() && f > 0.0 => Ok(f),
+        _ => Err(format!("expected m, cm, mm, in, ft or a positive number of metres, got {s:?}")),
+    }
+}
+
 /// Parses `K/N` for `--shard`.
 fn parse_shard(s: &str) -> Result<(u32, u32), String> {
     let (k, n) = s.split_once('/').ok_or("expected K/N, e.g. 0/4")?;
@@ -322,6 +394,8 @@ fn run() -> anyhow::Result<()> {
     match cli.command {
         Command::Render {
             scene,
+            allow_external_paths,
+            units,
             output,
             method,
             spp,
@@ -344,9 +418,10 @@ fn run() -> anyhow::Result<()> {
             checkpoint,
             resume,
             preview,
+            exposure,
             quiet,
         } => {
-            let desc = load_scene(&scene)?;
+            let desc = load_scene_with(&scene, &ImportOptions { allow_external_paths, units_scale: units })?;
             quasar::interrupt::install_handler();
             let ov = JobOverrides {
                 width,
@@ -379,7 +454,7 @@ fn run() -> anyhow::Result<()> {
             if same_file(&scene, &exr) || preview.as_ref().is_some_and(|p| same_file(&scene, p)) {
                 anyhow::bail!("{}: the output would overwrite the scene file", exr.display());
             }
-            write_outputs(&out, &exr, preview.as_ref())?;
+            write_outputs_with_exposure(&out, &exr, preview.as_ref(), exposure)?;
             if out.result.interrupted {
                 eprintln!("interrupted: wrote the partial image {} ({} spp)", exr.display(), out.result.spp);
             }
@@ -426,14 +501,28 @@ fn run() -> anyhow::Result<()> {
         }
         Command::Bench { what } => bench(what),
         Command::Bsdf { action, file, plot } => bsdf(action, file, plot),
-        Command::Info { scene } => {
-            let desc = load_scene(&scene)?;
+        Command::Info { scene, allow_external_paths, units } => {
+            let desc = load_scene_with(&scene, &ImportOptions { allow_external_paths, units_scale: units })?;
             let compiled = Scene::compile(&desc)?;
             println!("scene: {}", scene.display());
             println!("meshes: {}, triangles: {}", desc.meshes.len(), compiled.triangle_count());
             println!("materials: {}", desc.materials.len());
             for m in &desc.materials {
-                println!("  {}: {:?}", m.name, m.material);
+                let tex = if m.textures.is_empty() { "" } else { " (textured)" };
+                println!("  {}: {:?}{tex}", m.name, m.material);
+            }
+            if !desc.textures.is_empty() {
+                let t: Vec<String> =
+                    desc.textures.iter().map(|t| format!("{} {}x{}", t.name, t.width, t.height)).collect();
+                println!("textures: {}", t.join(", "));
+            }
+            if !desc.cameras.is_empty() {
+                let c: Vec<&str> = desc.cameras.iter().map(|c| c.name.as_str()).collect();
+                println!(
+                    "cameras in the file: {} (the scene camera looks from {})",
+                    c.join(", "),
+                    desc.camera.position
+                );
             }
             println!(
                 "lights: {} ({} emissive triangles)",

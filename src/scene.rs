@@ -1,9 +1,12 @@
 //! The compiled, render-time scene: BVH, materials, lights (DESIGN.md section 1: import ->
 //! SceneDesc -> **compile** -> integrate). Nothing here knows about file formats.
 
-use glam::Vec3;
-use quasar_importers::{LightDesc, SceneDesc};
-use quasar_materials::{Frame, Material, NonUniformity};
+use std::borrow::Cow;
+
+use glam::{Vec2, Vec3};
+use quasar_importers::{LightDesc, MaterialTextures, SceneDesc, TextureDesc, pbr_material};
+use quasar_materials::spectrum::SampledWavelengths;
+use quasar_materials::{Bsdf, Frame, Material, NonUniformity};
 use rayon::prelude::*;
 
 use crate::geometry::{Accel, Hit, NONE, Ray, TriangleGeom, TriangleInfo};
@@ -51,6 +54,8 @@ pub struct SurfaceInteraction {
     pub material: u32,
     /// Area light index or [`NONE`].
     pub light: u32,
+    /// Texture coordinates (zero unless the material is textured).
+    pub uv: Vec2,
 }
 
 impl SurfaceInteraction {
@@ -76,6 +81,12 @@ impl SurfaceInteraction {
     }
 }
 
+/// Largest |coordinate| (metres) of a vertex that is kept: triangles further out are dropped like
+/// non-finite ones. Beyond it, squared extents in the BVH builder's surface-area costs overflow
+/// f32 and obvhs builds an invalid tree (an index out of bounds, found by fuzzing); 1e15 m is ten
+/// orders of magnitude past the largest scene scale DESIGN.md asks for (1e5 m).
+pub const MAX_COORDINATE: f32 = 1e15;
+
 /// A key equal for the same triangle with any rotation of its vertices (same orientation).
 fn triangle_key(v: &[Vec3; 3]) -> [u32; 9] {
     let bits = |p: Vec3| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
@@ -86,6 +97,34 @@ fn triangle_key(v: &[Vec3; 3]) -> [u32; 9] {
         k[3 * j..3 * j + 3].copy_from_slice(&r[(first + j) % 3]);
     }
     k
+}
+
+/// The shading normal `ns` perturbed by tangent-space normal `n` (glTF convention: +X along
+/// increasing u, +Y along decreasing v, +Z = `ns`), with the tangent frame from the triangle's
+/// texture coordinates `uv`; `ns` unchanged when the frame or the result is degenerate. The result
+/// stays on the side of `ng`.
+fn normal_mapped(g: &TriangleGeom, uv: &[Vec2], ns: Vec3, ng: Vec3, n: Vec3) -> Vec3 {
+    let (d1, d2) = (uv[1] - uv[0], uv[2] - uv[0]);
+    let det = d1.x * d2.y - d1.y * d2.x;
+    if det == 0.0 || !det.is_finite() {
+        return ns;
+    }
+    let (e1, e2) = (Vec3::from(g.e1), Vec3::from(g.e2));
+    let dpdu = (e1 * d2.y - e2 * d1.y) / det;
+    let dpdv = (e2 * d1.x - e1 * d2.x) / det;
+    let t = (dpdu - ns * ns.dot(dpdu)).normalize_or_zero();
+    if t == Vec3::ZERO || !t.is_finite() {
+        return ns;
+    }
+    let mut b = ns.cross(t);
+    if b.dot(dpdv) > 0.0 {
+        b = -b;
+    }
+    let m = (t * n.x + b * n.y + ns * n.z).normalize_or_zero();
+    if m == Vec3::ZERO || !m.is_finite() {
+        return ns;
+    }
+    if m.dot(ng) < 0.0 { -m } else { m }
 }
 
 /// The render-time scene.
@@ -108,11 +147,18 @@ pub struct Scene {
     pub light_sampler: LightSampler,
     /// Per-vertex shading normals, three per smooth triangle.
     pub normals: Vec<Vec3>,
+    /// Per-vertex texture coordinates, three per triangle with a textured material.
+    pub uvs: Vec<Vec2>,
+    /// Textures (plain data from the scene description).
+    pub textures: Vec<TextureDesc>,
+    /// Textures of each material (same order as `materials`; empty for most).
+    pub material_textures: Vec<MaterialTextures>,
     /// Centre of the bounding sphere.
     pub center: Vec3,
     /// Radius of the bounding sphere.
     pub radius: f32,
-    /// Number of triangles that were dropped because a vertex was not finite or the area is 0.
+    /// Number of triangles that were dropped because a vertex was not finite or beyond
+    /// [`MAX_COORDINATE`], the area is 0, or the triangle repeats another.
     pub dropped_triangles: usize,
 }
 
@@ -123,6 +169,7 @@ impl Scene {
         let mut tris = Vec::new();
         let mut infos = Vec::new();
         let mut normals = Vec::new();
+        let mut uvs = Vec::new();
         let mut emissions = Vec::new();
         let mut lights = Vec::new();
         let mut dropped = 0usize;
@@ -139,6 +186,12 @@ impl Scene {
             {
                 return Err(err(format!("{} normals for {} positions", n.len(), m.positions.len())));
             }
+            if let Some(t) = &m.uvs
+                && t.len() != m.positions.len()
+            {
+                return Err(err(format!("{} texture coordinates for {} positions", t.len(), m.positions.len())));
+            }
+            let textured = !desc.materials[m.material].textures.is_empty();
             let emission = match &m.emission {
                 Some(e) if e.scale > 0.0 && e.scale.is_finite() => {
                     emissions.push(Emission { spectrum: e.spectrum.clone(), scale: e.scale, two_sided: e.two_sided });
@@ -157,8 +210,10 @@ impl Scene {
                 }
                 // non-finite or zero-area (in f32) triangles can never be hit (the intersection
                 // determinant is 0) or sampled; left in, masses of them (a sphere of radius 1e-45)
-                // make the BVH build quadratic
-                if !v.iter().all(|p| p.is_finite()) || (v[1] - v[0]).cross(v[2] - v[0]) == Vec3::ZERO {
+                // make the BVH build quadratic; too distant ones (MAX_COORDINATE) break the build
+                if !v.iter().all(|p| p.is_finite() && p.abs().max_element() <= MAX_COORDINATE)
+                    || (v[1] - v[0]).cross(v[2] - v[0]) == Vec3::ZERO
+                {
                     dropped += 1;
                     continue;
                 }
@@ -176,6 +231,11 @@ impl Scene {
                         normals.extend(n.iter().map(|n| n.normalize()));
                     }
                 }
+                let mut uidx = NONE;
+                if textured && let Some(t) = &m.uvs {
+                    uidx = uvs.len() as u32;
+                    uvs.extend(idx.iter().map(|&i| t[i as usize]));
+                }
                 for p in v {
                     lo = lo.min(p);
                     hi = hi.max(p);
@@ -186,7 +246,13 @@ impl Scene {
                     lights.push(Light::Area { tri: TriangleGeom::new(v[0], v[1], v[2]), emission });
                 }
                 tris.push(v);
-                infos.push(TriangleInfo { material: m.material as u32, light, normals: nidx, mesh: mi as u32 });
+                infos.push(TriangleInfo {
+                    material: m.material as u32,
+                    light,
+                    normals: nidx,
+                    mesh: mi as u32,
+                    uvs: uidx,
+                });
             }
         }
         let (center, radius) = if tris.is_empty() {
@@ -244,6 +310,9 @@ impl Scene {
             infinite_lights,
             light_sampler,
             normals,
+            uvs,
+            textures: desc.textures.clone(),
+            material_textures: desc.materials.iter().map(|m| m.textures.clone()).collect(),
             center,
             radius,
             dropped_triangles: dropped,
@@ -277,7 +346,40 @@ impl Scene {
                 ns = if s.dot(ng) < 0.0 { -s } else { s };
             }
         }
-        SurfaceInteraction { p, p_err, ng, ns, t: h.t, prim: h.prim, material: info.material, light: info.light }
+        let mut uv = Vec2::ZERO;
+        if info.uvs != NONE {
+            let t = &self.uvs[info.uvs as usize..info.uvs as usize + 3];
+            uv = t[0] * (1.0 - h.b1 - h.b2) + t[1] * h.b1 + t[2] * h.b2;
+            if let Some(n) = self.material_textures[info.material as usize].normal_at(&self.textures, uv) {
+                ns = normal_mapped(g, t, ns, ng, n);
+            }
+        }
+        SurfaceInteraction { p, p_err, ng, ns, t: h.t, prim: h.prim, material: info.material, light: info.light, uv }
+    }
+
+    /// The material at a surface point: the material table's entry, or for a textured (glTF)
+    /// material the one its factors times the texels at `si.uv` map to.
+    #[inline]
+    pub fn material_at(&self, si: &SurfaceInteraction) -> Cow<'_, Material> {
+        let m = si.material as usize;
+        match self.material_textures.get(m) {
+            Some(t) if !t.is_empty() => match t.params_at(&self.textures, si.uv) {
+                Some(p) => Cow::Owned(pbr_material(&p)),
+                None => Cow::Borrowed(&self.materials[m]),
+            },
+            _ => Cow::Borrowed(&self.materials[m]),
+        }
+    }
+
+    /// The BSDF at a surface point for the path's wavelengths (see [`material_at`](Self::material_at)).
+    /// It borrows the scene (tabulated tables), never the temporary textured material: textures
+    /// only produce analytic materials, whose BSDFs borrow nothing.
+    #[inline]
+    pub fn bsdf_at(&self, si: &SurfaceInteraction, wl: &mut SampledWavelengths) -> Bsdf<'_> {
+        match self.material_at(si) {
+            Cow::Borrowed(m) => m.bsdf(wl),
+            Cow::Owned(m) => m.bsdf(wl).detached().unwrap_or(Bsdf::Black),
+        }
     }
 
     /// Number of triangles.

@@ -210,3 +210,57 @@ fn bsdf_command_reports_plots_converts_and_refuses() {
     assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("film.bsdf:"));
     assert!(!bad.exists());
 }
+
+/// A glTF with one lit triangle whose buffer is `uri` (returned with the buffer bytes), using an
+/// extension quasar does not support (a warning).
+fn gltf_with_buffer(uri: &str) -> (String, Vec<u8>) {
+    use quasar_importers::gltf::writer::{BinStorage, GltfWriter, Prim};
+    let mut w = GltfWriter::new();
+    w.use_extension("KHR_lights_punctual", false);
+    w.use_extension("KHR_materials_clearcoat", false);
+    let position = w.positions(&[[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [0.0, 1.0, 0.0]]);
+    let m = w.mesh("tri", &[Prim { position, ..Default::default() }]);
+    GltfWriter::push(&mut w.lights, r#"{"type":"point","intensity":1000}"#);
+    let a = GltfWriter::push(&mut w.nodes, &format!(r#"{{"mesh":{m}}}"#));
+    let b =
+        GltfWriter::push(&mut w.nodes, r#"{"translation":[0,0,2],"extensions":{"KHR_lights_punctual":{"light":0}}}"#);
+    w.roots.extend([a, b]);
+    w.to_gltf(&BinStorage::External(uri.into()))
+}
+
+#[test]
+fn gltf_paths_outside_the_folder_need_the_flag_and_warnings_are_printed() {
+    let dir = tempfile::tempdir().unwrap();
+    let (json, bin) = gltf_with_buffer("../data.bin");
+    std::fs::create_dir(dir.path().join("model")).unwrap();
+    std::fs::write(dir.path().join("data.bin"), bin).unwrap();
+    let scene = dir.path().join("model/m.gltf");
+    std::fs::write(&scene, json).unwrap();
+    let out = dir.path().join("m.exr");
+    let args = ["render", "--quiet", "--width", "8", "--height", "6", "--spp", "1", "--method", "pt"];
+    let o = quasar().args(args).arg(&scene).arg("-o").arg(&out).output().unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{stderr}");
+    assert!(stderr.contains("m.gltf: /buffers/0/uri: URI `../data.bin` leaves the glTF file's folder"), "{stderr}");
+    assert!(!out.exists());
+    let o = quasar().args(args).arg("--allow-external-paths").arg(&scene).arg("-o").arg(&out).output().unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{stderr}");
+    assert!(stderr.contains("warning: ") && stderr.contains("KHR_materials_clearcoat"), "{stderr}");
+    assert!(quasar::output::read_exr(&out).unwrap().channel("Y").unwrap().iter().any(|&y| y > 0.0));
+    // --units scales the scene: info reports the bounding sphere in metres
+    let info = |units: &str| {
+        let o = quasar().args(["info", "--allow-external-paths", "--units", units]).arg(&scene).output().unwrap();
+        assert!(o.status.success());
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    let radius = |text: String| -> f64 {
+        let r = text.split("radius ").nth(1).and_then(|t| t.split_whitespace().next()).unwrap();
+        r.parse().unwrap()
+    };
+    let (m, mm) = (radius(info("m")), radius(info("mm")));
+    assert!((m - 2f64.sqrt()).abs() < 1e-5, "{m}");
+    assert!((mm / m - 1e-3).abs() < 1e-8, "{mm}");
+    let o = quasar().args(["info", "--units", "furlong"]).arg(&scene).output().unwrap();
+    assert!(!o.status.success() && String::from_utf8_lossy(&o.stderr).contains("expected m, cm, mm"));
+}

@@ -6,7 +6,7 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use quasar::importers::{ImportOptions, ObjMaterials, import_obj, parse_toml_scene};
+use quasar::importers::{ImportOptions, ObjMaterials, import_gltf, import_obj, parse_toml_scene};
 use quasar::job::{JobOverrides, render_desc};
 
 fn inputs(target: &str) -> Vec<PathBuf> {
@@ -41,4 +41,33 @@ fn obj_regressions() {
             Err(e) => assert!(e.to_string().contains(&*p.file_name().unwrap().to_string_lossy()), "{e}"),
         }
     }
+}
+
+#[test]
+fn gltf_regressions() {
+    let mut errors = 0;
+    for p in inputs("gltf") {
+        match import_gltf(&p, &ImportOptions::default()) {
+            Ok(desc) => {
+                let ov = JobOverrides {
+                    width: Some(2),
+                    height: Some(2),
+                    spp: Some(1),
+                    threads: Some(1),
+                    ..Default::default()
+                };
+                if let Ok(out) = render_desc(&desc, &ov, false) {
+                    for c in out.image.channels.iter().filter(|c| c.name != "depth.Z") {
+                        assert!(c.values.iter().all(|v| v.is_finite()), "{}: non-finite {}", p.display(), c.name);
+                    }
+                }
+            }
+            Err(e) => {
+                errors += 1;
+                let s = e.to_string();
+                assert!(s.contains(&*p.file_name().unwrap().to_string_lossy()), "{s}");
+            }
+        }
+    }
+    assert!(errors > 0, "the hand-written hostile inputs are refused");
 }

@@ -1,4 +1,4 @@
-//! Hostile input: thousands of randomly mutated scene and OBJ files (byte flips, deletions,
+//! Hostile input: thousands of randomly mutated scene, OBJ and glTF files (byte flips, deletions,
 //! duplicated lines, special numbers and keys spliced in) must load with a clear error or render
 //! without a panic and without NaN/inf pixels. A cheap, deterministic, stable-Rust cousin of the
 //! fuzz targets; every mutation is reproducible from its seed.
@@ -155,5 +155,13 @@ fn mutated_glass_plate_and_lightguide_scenes_never_panic() {
     std::panic::set_hook(Box::new(|_| {}));
     run_mutations("glass-plate", "glass-plate.toml", &[], 300);
     run_mutations("lightguide", "lightguide.toml", &[], 300);
+    std::panic::set_hook(prev);
+}
+
+#[test]
+fn mutated_gltf_showcase_never_panics() {
+    let prev = std::panic::take_hook();
+    std::panic::set_hook(Box::new(|_| {}));
+    run_mutations("gltf-showcase", "showcase.gltf", &[], 200);
     std::panic::set_hook(prev);
 }

@@ -309,8 +309,10 @@ pub fn import_obj(path: &Path, opts: &ImportOptions, materials: ObjMaterials) ->
                     }
                     _ => (grey_diffuse(), None, source),
                 };
-                scene_mats
-                    .push(SceneMaterial { desc: MaterialDesc { name: u.name.clone(), material, source }, emission });
+                scene_mats.push(SceneMaterial {
+                    desc: MaterialDesc { name: u.name.clone(), material, textures: Default::default(), source },
+                    emission,
+                });
                 scene_index.insert(u.name.clone(), scene_mats.len() - 1);
                 scene_mats.len() - 1
             }
@@ -349,6 +351,7 @@ pub fn import_obj(path: &Path, opts: &ImportOptions, materials: ObjMaterials) ->
                     desc: MaterialDesc {
                         name,
                         material: grey_diffuse(),
+                        textures: Default::default(),
                         source: SourceLocation { file: path.to_owned(), line: None, item: None },
                     },
                     emission: None,
@@ -379,6 +382,7 @@ pub fn import_obj(path: &Path, opts: &ImportOptions, materials: ObjMaterials) ->
             name: format!("{file_name}:{}:{}", model.name, mat.desc.name),
             positions,
             normals,
+            uvs: None,
             indices,
             material: si,
             emission: mat.emission.clone(),

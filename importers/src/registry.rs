@@ -5,6 +5,7 @@
 use std::path::Path;
 
 use crate::error::{ErrorPlace, ImportError, ImportErrorKind};
+use crate::gltf::GltfImporter;
 use crate::obj::ObjImporter;
 use crate::scene_desc::SceneDesc;
 use crate::toml_scene::TomlSceneImporter;
@@ -15,6 +16,9 @@ pub struct ImportOptions {
     /// Extra factor applied to every length after the file's own units are converted to metres
     /// (`None` = 1). Must be finite and > 0.
     pub units_scale: Option<f32>,
+    /// Let glTF files refer to external files by absolute paths or by relative paths that leave
+    /// the glTF file's folder (refused by default; CLI `--allow-external-paths`).
+    pub allow_external_paths: bool,
 }
 
 impl ImportOptions {
@@ -42,7 +46,7 @@ pub trait Importer: Sync {
 }
 
 /// The table of importers, searched in order by [`importer_for`].
-pub static IMPORTERS: &[&dyn Importer] = &[&TomlSceneImporter, &ObjImporter];
+pub static IMPORTERS: &[&dyn Importer] = &[&TomlSceneImporter, &ObjImporter, &GltfImporter];
 
 /// The importer registered for the extension of `path` (case-insensitive), if any.
 pub fn importer_for(path: &Path) -> Option<&'static dyn Importer> {
@@ -85,16 +89,17 @@ mod tests {
         assert_eq!(e.kind, ImportErrorKind::Unsupported);
         let s = e.to_string();
         assert!(s.starts_with("dir/model.fbx: unsupported"), "{s}");
-        assert!(s.contains(".toml") && s.contains(".obj"), "{s}");
+        assert!(s.contains(".toml") && s.contains(".obj") && s.contains(".glb"), "{s}");
+        assert!(importer_for(Path::new("a.GLTF")).unwrap().extensions().contains(&"gltf"));
     }
 
     #[test]
     fn units_scale_is_validated() {
         let p = Path::new("x.toml");
         assert_eq!(ImportOptions::default().scale(p).unwrap(), 1.0);
-        assert_eq!(ImportOptions { units_scale: Some(0.5) }.scale(p).unwrap(), 0.5);
+        assert_eq!(ImportOptions { units_scale: Some(0.5), ..Default::default() }.scale(p).unwrap(), 0.5);
         for bad in [0.0, -1.0, f32::NAN, f32::INFINITY] {
-            assert!(ImportOptions { units_scale: Some(bad) }.scale(p).is_err());
+            assert!(ImportOptions { units_scale: Some(bad), ..Default::default() }.scale(p).is_err());
         }
     }
 }

@@ -4,8 +4,10 @@
 
 use std::path::PathBuf;
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use quasar_materials::{Material, spectrum::Spectrum};
+
+pub use crate::texture_desc::{MaterialTextures, TextureDesc, TextureRef, TextureWrap};
 
 /// Where a scene element came from, for error messages and `quasar info`.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -38,6 +40,8 @@ pub struct MaterialDesc {
     pub name: String,
     /// The model and its parameters.
     pub material: Material,
+    /// Textures that modulate the material's parameters (glTF); empty for untextured materials.
+    pub textures: MaterialTextures,
     /// Where it was defined.
     pub source: SourceLocation,
 }
@@ -64,6 +68,9 @@ pub struct MeshDesc {
     pub positions: Vec<Vec3>,
     /// Per-vertex shading normals (same length as `positions`), or `None` for flat shading.
     pub normals: Option<Vec<Vec3>>,
+    /// Per-vertex texture coordinates (same length as `positions`; glTF convention: origin at the
+    /// image's top-left, v down), or `None`.
+    pub uvs: Option<Vec<Vec2>>,
     /// Triangles as indices into `positions`.
     pub indices: Vec<[u32; 3]>,
     /// Index into [`SceneDesc::materials`].
@@ -156,6 +163,17 @@ impl Default for CameraDesc {
     }
 }
 
+/// A camera defined in a scene file (e.g. a glTF camera), selectable by name or index.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NamedCamera {
+    /// Name in the file (glTF `name`, or `camera<N>` when it has none).
+    pub name: String,
+    /// The camera, in world space.
+    pub camera: CameraDesc,
+    /// Width / height the file asks for (glTF `aspectRatio`), if any.
+    pub aspect: Option<f32>,
+}
+
 /// Render settings a scene may carry (the CLI overrides them).
 #[derive(Clone, Debug, PartialEq)]
 pub struct RenderSettings {
@@ -225,6 +243,14 @@ pub struct SceneDesc {
     pub lights: Vec<LightDesc>,
     /// The camera.
     pub camera: CameraDesc,
+    /// Cameras defined in the file (and in included files), in file order; `camera` is one of
+    /// them or was given explicitly.
+    pub cameras: Vec<NamedCamera>,
+    /// Textures; materials refer to them by index.
+    pub textures: Vec<TextureDesc>,
+    /// Problems that did not stop the import (unsupported extensions, approximations), for the
+    /// user: the CLI prints them as `warning: ...`.
+    pub warnings: Vec<String>,
     /// Render settings from the scene file.
     pub render: RenderSettings,
     /// The file the scene was loaded from.

@@ -2,7 +2,7 @@
 
 use glam::{Affine3A, Mat3, Vec3};
 
-use crate::scene_desc::{LightDesc, MeshDesc};
+use crate::scene_desc::{CameraDesc, LightDesc, MeshDesc};
 
 /// `scale`, then rotation about X, Y, Z (in that order, fixed axes), then `translate`.
 pub(crate) fn trs(translate: Vec3, rotate_deg_xyz: Vec3, scale: Vec3) -> Affine3A {
@@ -74,6 +74,13 @@ pub(crate) fn transform_light(light: &mut LightDesc, m: &Affine3A) {
     }
 }
 
+/// Applies `m` to a camera: position and target as points, up as a vector.
+pub(crate) fn transform_camera(c: &mut CameraDesc, m: &Affine3A) {
+    c.position = m.transform_point3(c.position);
+    c.target = m.transform_point3(c.target);
+    c.up = m.transform_vector3(c.up);
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -84,6 +91,7 @@ mod tests {
             name: "t".into(),
             positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
             normals: Some(vec![Vec3::Z; 3]),
+            uvs: None,
             indices: vec![[0, 1, 2]],
             material: 0,
             emission: None,

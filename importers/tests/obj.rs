@@ -72,7 +72,7 @@ fn polygons_negative_indices_and_normals() {
 fn units_scale_applies_to_obj() {
     let f = Files::new();
     let p = f.write("tri.obj", TRI);
-    let s = import_scene(&p, &ImportOptions { units_scale: Some(0.01) }).unwrap();
+    let s = import_scene(&p, &ImportOptions { units_scale: Some(0.01), ..Default::default() }).unwrap();
     assert_eq!(s.meshes[0].positions[1], Vec3::new(0.01, 0.0, 0.0));
 }
 

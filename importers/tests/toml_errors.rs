@@ -312,7 +312,8 @@ fn missing_or_unreadable_scene_files() {
     std::fs::write(&p, b"[render]\nwidth = 3\n\xff\xfe\n").unwrap();
     let e = import_scene(&p, &ImportOptions::default()).unwrap_err().to_string();
     assert!(e.contains("bin.toml:3"), "{e}");
-    let e = import_scene(&f.path("x.toml"), &ImportOptions { units_scale: Some(f32::NAN) }).unwrap_err();
+    let e = import_scene(&f.path("x.toml"), &ImportOptions { units_scale: Some(f32::NAN), ..Default::default() })
+        .unwrap_err();
     assert!(e.to_string().contains("x.toml"), "{e}");
 }
 

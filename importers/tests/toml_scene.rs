@@ -123,7 +123,7 @@ position = [0, 300, 0]
     // ImportOptions::units_scale multiplies on top
     let f = Files::new();
     let p = f.write("scene.toml", toml);
-    let s = import_scene(&p, &ImportOptions { units_scale: Some(2.0) }).unwrap();
+    let s = import_scene(&p, &ImportOptions { units_scale: Some(2.0), ..Default::default() }).unwrap();
     assert!(close(s.camera.position, Vec3::new(0.0, 0.0, 10.0)));
     let (lo, hi) = bounds(&s.meshes[0]);
     assert!(close((lo + hi) / 2.0, Vec3::new(2.0, 4.0, 0.0)));

@@ -64,7 +64,10 @@ impl Accel {
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
         let bvh = self.bvh.as_ref()?;
         let o = Vec3A::from(ray.origin);
-        let d = Vec3A::from(ray.dir);
+        // -0.0 components become +0.0: obvhs picks the traversal octant by sign but divides
+        // by the component, and 1 / -0.0 = -inf then skips boxes (an exactly axis-parallel ray
+        // such as (-0, -1, -0) missed a flat floor)
+        let d = Vec3A::from(ray.dir) + Vec3A::ZERO;
         let oray = obvhs::ray::Ray::new(o, d, 0.0, ray.t_max);
         let mut rh = RayHit::none();
         let mut best: Option<Hit> = None;
@@ -83,7 +86,7 @@ impl Accel {
     pub fn occluded(&self, ray: &Ray) -> bool {
         let Some(bvh) = self.bvh.as_ref() else { return false };
         let o = Vec3A::from(ray.origin);
-        let d = Vec3A::from(ray.dir);
+        let d = Vec3A::from(ray.dir) + Vec3A::ZERO; // no -0.0 (see `intersect`)
         let oray = obvhs::ray::Ray::new(o, d, 0.0, ray.t_max);
         !bvh.ray_traverse_miss(oray, |r, id| match self.geom[id].intersect(o, d, 0.0, r.tmax) {
             Some((t, _, _)) => t,

@@ -83,6 +83,9 @@ pub struct TriangleInfo {
     pub normals: u32,
     /// Index of the source mesh (for messages and AOVs).
     pub mesh: u32,
+    /// Index of the first of three per-vertex texture coordinates in the uv pool, or `u32::MAX`
+    /// (kept only for triangles whose material is textured).
+    pub uvs: u32,
 }
 
 /// Sentinel for "none" in [`TriangleInfo`] index fields.

@@ -69,7 +69,7 @@ pub fn radiance(
         if settings.max_depth.is_some_and(|m| depth >= m) {
             break;
         }
-        let bsdf = scene.materials[si.material as usize].bsdf(wl);
+        let bsdf = scene.bsdf_at(&si, wl);
         let frame = si.frame();
         let wo_local = frame.to_local(wo);
         if !bsdf.is_specular() {

@@ -28,8 +28,10 @@ use crate::error::{ErrorPlace, ImportError, ImportErrorKind, did_you_mean};
 use crate::glob::glob_match;
 use crate::obj::{ObjMaterials, import_obj, read_small_text, unique_name};
 use crate::registry::{ImportOptions, Importer, importer_for, supported_extensions};
-use crate::scene_desc::{LightDesc, MaterialDesc, MeshDesc, SceneDesc, SourceLocation};
-use crate::transform::{flip_mesh, transform_light, transform_mesh};
+use crate::scene_desc::{
+    CameraDesc, LightDesc, MaterialDesc, MeshDesc, NamedCamera, SceneDesc, SourceLocation, TextureDesc,
+};
+use crate::transform::{flip_mesh, transform_camera, transform_light, transform_mesh};
 
 /// Integration methods accepted by `[render] method`.
 pub const RENDER_METHODS: [&str; 6] = ["auto", "pt", "vismap", "adaptive", "quasi", "adaptive+quasi"];
@@ -100,6 +102,9 @@ fn parse_at_depth(text: &str, path: &Path, opts: &ImportOptions, depth: u32) -> 
         lights: Vec::new(),
         black: None,
         triangles: 0,
+        cameras: Vec::new(),
+        textures: Vec::new(),
+        warnings: Vec::new(),
     };
     if let Some(m) = top.opt_table("materials")? {
         b.materials(&m)?;
@@ -113,7 +118,7 @@ fn parse_at_depth(text: &str, path: &Path, opts: &ImportOptions, depth: u32) -> 
     for l in tables(&top, "light")? {
         b.lights.push(settings::light(&l, b.unit)?);
     }
-    let camera = settings::camera(top.opt_table("camera")?, b.unit)?;
+    let camera = b.camera(top.opt_table("camera")?)?;
     let render = settings::render(top.opt_table("render")?, b.unit)?;
     for o in tables(&top, "override")? {
         b.override_(&o)?;
@@ -130,6 +135,9 @@ fn parse_at_depth(text: &str, path: &Path, opts: &ImportOptions, depth: u32) -> 
         meshes: b.meshes,
         lights: b.lights,
         camera,
+        cameras: b.cameras,
+        textures: b.textures,
+        warnings: b.warnings,
         render,
         source: path.to_owned(),
     })
@@ -180,6 +188,12 @@ struct Builder<'a> {
     black: Option<usize>,
     /// Triangles so far (limited by [`MAX_SCENE_TRIANGLES`]).
     triangles: u64,
+    /// Cameras of included files (glTF), in include order.
+    cameras: Vec<NamedCamera>,
+    /// Textures of included files.
+    textures: Vec<TextureDesc>,
+    /// Warnings of included files.
+    warnings: Vec<String>,
 }
 
 impl<'a> Builder<'a> {
@@ -199,7 +213,12 @@ impl<'a> Builder<'a> {
             let t = Tbl::of(self.doc, v, format!("materials.{name}"))?;
             let material = material::material(&t)?;
             let source = self.source(&t, name.to_owned());
-            let i = self.add_material(MaterialDesc { name: name.to_owned(), material, source });
+            let i = self.add_material(MaterialDesc {
+                name: name.to_owned(),
+                material,
+                textures: Default::default(),
+                source,
+            });
             self.toml_materials.insert(name.to_owned(), i);
         }
         Ok(())
@@ -235,7 +254,7 @@ impl<'a> Builder<'a> {
         let name = unique_name("emitter-black", |n| self.by_name.contains_key(n));
         let material = Material::Diffuse { reflectance: Spectrum::Constant(0.0), two_sided: true };
         let source = SourceLocation { file: self.doc.file.to_owned(), line: None, item: None };
-        let i = self.add_material(MaterialDesc { name, material, source });
+        let i = self.add_material(MaterialDesc { name, material, textures: Default::default(), source });
         self.black = Some(i);
         i
     }
@@ -343,6 +362,7 @@ impl<'a> Builder<'a> {
             name: name.clone(),
             positions: tess.positions,
             normals: tess.normals,
+            uvs: None,
             indices: tess.indices,
             material,
             emission,
@@ -463,14 +483,26 @@ impl<'a> Builder<'a> {
         let file_name = path.file_name().map_or_else(|| name.to_owned(), |n| n.to_string_lossy().into_owned());
         let orig_names: Vec<String> = sub.materials.iter().map(|m| m.name.clone()).collect();
         let mut remap = Vec::with_capacity(sub.materials.len());
-        for md in sub.materials {
+        let tex_base = self.textures.len();
+        if material.is_none() {
+            self.textures.extend(sub.textures);
+        }
+        for mut md in sub.materials {
             if material.is_some() {
                 remap.push(usize::MAX);
                 continue;
             }
+            for r in [&mut md.textures.base_color, &mut md.textures.metallic_roughness].into_iter().flatten() {
+                r.texture += tex_base;
+            }
             let nm = unique_name(&format!("{file_name}:{}", md.name), |n| self.by_name.contains_key(n));
             remap.push(self.add_material(MaterialDesc { name: nm, ..md }));
         }
+        for mut c in sub.cameras {
+            transform_camera(&mut c.camera, &m);
+            self.cameras.push(c);
+        }
+        self.warnings.extend(sub.warnings);
         let mut meshes = Vec::with_capacity(sub.meshes.len());
         for mut mesh in sub.meshes {
             let Some(orig) = orig_names.get(mesh.material).cloned() else {
@@ -500,6 +532,45 @@ impl<'a> Builder<'a> {
         }
         self.lights.extend(lights);
         Ok(())
+    }
+
+    /// The scene camera: `[camera]` with `name` or `index` picks a camera of an included file
+    /// (glTF); other keys describe one; without `[camera]`, the first included camera if any.
+    fn camera(&self, t: Option<Tbl<'_>>) -> Result<CameraDesc, ImportError> {
+        let t = match t {
+            Some(t) if t.has("name") || t.has("index") => t,
+            None if !self.cameras.is_empty() => return Ok(self.cameras[0].camera.clone()),
+            t => return settings::camera(t, self.unit),
+        };
+        t.check_keys(&["name", "index"])?;
+        let names: Vec<&str> = self.cameras.iter().map(|c| c.name.as_str()).collect();
+        let list = if names.is_empty() { "the included files define none".to_owned() } else { names.join(", ") };
+        if t.has("name") && t.has("index") {
+            return Err(self.doc.invalid(&t.key_span("index"), "`camera`: give `name` or `index`, not both"));
+        }
+        if let Some(name) = t.opt_str("name")? {
+            return match self.cameras.iter().find(|c| c.name == name) {
+                Some(c) => Ok(c.camera.clone()),
+                None => Err(self.doc.error(
+                    ImportErrorKind::UnresolvedReference,
+                    &t.key_span("name"),
+                    format!(
+                        "no included camera is named `{name}` (cameras: {list}){}",
+                        did_you_mean(name, names.iter().copied())
+                    ),
+                )),
+            };
+        }
+        let max = self.cameras.len().saturating_sub(1) as i128;
+        if self.cameras.is_empty() {
+            return Err(self.doc.error(
+                ImportErrorKind::UnresolvedReference,
+                &t.key_span("index"),
+                "`camera.index`: the included files define no cameras",
+            ));
+        }
+        let i: usize = t.opt_int("index", 0, max)?.unwrap_or(0);
+        Ok(self.cameras[i].camera.clone())
     }
 
     fn override_(&mut self, t: &Tbl<'_>) -> Result<(), ImportError> {

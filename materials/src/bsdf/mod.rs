@@ -111,6 +111,18 @@ impl Bsdf<'_> {
         Bsdf::Black
     }
 
+    /// The same BSDF without a borrow, for every model that holds its parameters by value;
+    /// None for a tabulated BSDF (it borrows its table).
+    pub fn detached(self) -> Option<Bsdf<'static>> {
+        match self {
+            Bsdf::Black => Some(Bsdf::Black),
+            Bsdf::Diffuse(b) => Some(Bsdf::Diffuse(b)),
+            Bsdf::Conductor(b) => Some(Bsdf::Conductor(b)),
+            Bsdf::Dielectric(b) => Some(Bsdf::Dielectric(b)),
+            Bsdf::Tabulated(_) => None,
+        }
+    }
+
     /// f(wo, wi) in 1/sr (0 for specular lobes).
     pub fn f(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> SampledSpectrum {
         match self {

@@ -153,7 +153,7 @@ fn trace_photon(
     let mut lookups = 0;
     for bounce in 0..MAX_BOUNCES {
         let Some(si) = scene.intersect(&ray) else { break };
-        let bsdf = scene.materials[si.material as usize].bsdf(&mut wl);
+        let bsdf = scene.bsdf_at(&si, &mut wl);
         let wi_photon = -ray.dir;
         if bounce > 0 && !bsdf.is_specular() {
             lookups += 1;

@@ -128,7 +128,7 @@ pub fn trace_camera_path<'s>(
         }
         let wo = -ray.dir;
         out.add(class, beta * emitted_at_hit(scene, &si, wo, &prev, &wl));
-        let bsdf = scene.materials[si.material as usize].bsdf(&mut wl);
+        let bsdf = scene.bsdf_at(&si, &mut wl);
         let frame = si.frame();
         let wo_local = frame.to_local(wo);
         let specular = bsdf.is_specular();
@@ -206,7 +206,7 @@ pub fn pilot_gather_depth(
     let mut last_depth_seen = None;
     let mut specular_events = 0u32;
     while let Some(si) = scene.intersect(&ray) {
-        let bsdf = scene.materials[si.material as usize].bsdf(&mut wl);
+        let bsdf = scene.bsdf_at(&si, &mut wl);
         let frame = si.frame();
         let wo_local = frame.to_local(-ray.dir);
         let specular = bsdf.is_specular();

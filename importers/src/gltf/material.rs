@@ -1,0 +1,132 @@
+//! glTF materials -> [`MaterialDesc`] (via [`pbr_material`]) plus area emission and textures.
+//! The mapping is documented in `crate::pbr` and `docs/gltf.md`.
+
+use std::path::Path;
+
+use quasar_materials::spectrum::Spectrum;
+
+use super::texture::TextureLoader;
+use crate::error::ImportError;
+use crate::obj::unique_name;
+use crate::pbr::{PbrParams, pbr_material};
+use crate::photometric::photometric_scale;
+use crate::scene_desc::{EmissionDesc, MaterialDesc, SourceLocation};
+use crate::texture_desc::MaterialTextures;
+
+/// A converted material with the emission its meshes get.
+pub(super) struct Converted {
+    /// The material.
+    pub desc: MaterialDesc,
+    /// Area emission of meshes using it.
+    pub emission: Option<EmissionDesc>,
+}
+
+/// Keeps finite values, replacing others by `default`.
+fn finite(v: f32, default: f32) -> f32 {
+    if v.is_finite() { v } else { default }
+}
+
+/// Converts glTF material `m` (`None` = the glTF default material). `taken` tells which names
+/// are already used.
+pub(super) fn convert(
+    m: Option<&gltf::Material<'_>>,
+    file: &Path,
+    loader: &mut TextureLoader<'_>,
+    taken: &dyn Fn(&str) -> bool,
+) -> Result<Converted, ImportError> {
+    let Some(m) = m else {
+        // glTF 2.0 section 3.9.6: base colour 1, metallic 1, roughness 1
+        let p = PbrParams::default();
+        return Ok(Converted {
+            desc: MaterialDesc {
+                name: unique_name("gltf-default", taken),
+                material: pbr_material(&p),
+                textures: MaterialTextures::default(),
+                source: SourceLocation { file: file.to_owned(), line: None, item: None },
+            },
+            emission: None,
+        });
+    };
+    let i = m.index().unwrap_or(0);
+    let ptr = format!("/materials/{i}");
+    let pbr = m.pbr_metallic_roughness();
+    let bc = pbr.base_color_factor();
+    let mut p = PbrParams {
+        base_color: [finite(bc[0], 1.0), finite(bc[1], 1.0), finite(bc[2], 1.0)],
+        metallic: finite(pbr.metallic_factor(), 1.0),
+        roughness: finite(pbr.roughness_factor(), 1.0),
+        transmission: 0.0,
+        ior: 1.5,
+    };
+    if let Some(t) = m.transmission() {
+        p.transmission = finite(t.transmission_factor(), 0.0);
+        if t.transmission_texture().is_some() {
+            loader.warnings.push(format!(
+                "{}: {ptr}: transmission textures are not supported; the transmission factor is used",
+                file.display()
+            ));
+        }
+    }
+    if let Some(ior) = m.ior() {
+        if ior.is_finite() && ior >= 1.0 {
+            p.ior = ior;
+        } else {
+            loader
+                .warnings
+                .push(format!("{}: {ptr}: KHR_materials_ior {ior} is not >= 1; 1.5 is used", file.display()));
+        }
+    }
+    // KHR_materials_volume: no participating media in the core; attenuation and thickness are
+    // ignored (the glass is clear). KHR_materials_specular: the dielectric specular layer is not
+    // modelled (see crate::pbr), so specular factors do not change the mapped material.
+    let mut textures = MaterialTextures::default();
+    if let Some(info) = pbr.base_color_texture() {
+        textures.base_color = Some(loader.reference(&info, &format!("{ptr}/pbrMetallicRoughness/baseColorTexture"))?);
+    }
+    if let Some(info) = pbr.metallic_roughness_texture() {
+        textures.metallic_roughness =
+            Some(loader.reference(&info, &format!("{ptr}/pbrMetallicRoughness/metallicRoughnessTexture"))?);
+    }
+    if let Some(n) = m.normal_texture() {
+        let np = format!("{ptr}/normalTexture");
+        let r = loader.load(&n.texture(), &np)?;
+        if n.tex_coord() != 0 {
+            loader.warnings.push(format!(
+                "{}: {np}: uses TEXCOORD_{}; only TEXCOORD_0 is supported, it is used instead",
+                file.display(),
+                n.tex_coord()
+            ));
+        }
+        textures.normal = Some(crate::texture_desc::TextureRef::new(r));
+        textures.normal_scale = finite(n.scale(), 1.0);
+    }
+    if textures.base_color.is_some() || textures.metallic_roughness.is_some() || textures.normal.is_some() {
+        textures.pbr = Some(p);
+    }
+    let strength = finite(m.emissive_strength().unwrap_or(1.0), 1.0).max(0.0);
+    let mut e = m.emissive_factor().map(|c| finite(c, 0.0).max(0.0) * strength);
+    if let Some(info) = m.emissive_texture() {
+        // the area light has one colour: the factor times the texture's mean (documented)
+        let r = loader.reference(&info, &format!("{ptr}/emissiveTexture"))?;
+        let mean = loader.textures[r.texture].mean(true);
+        for (e, m) in e.iter_mut().zip(mean) {
+            *e *= m;
+        }
+    }
+    let emission = if e.iter().any(|&c| c > 0.0) && e.iter().all(|c| c.is_finite()) {
+        let spectrum = Spectrum::rgb_illuminant(e).unwrap_or(Spectrum::Constant(0.0));
+        Some(EmissionDesc { spectrum, scale: photometric_scale(1.0), two_sided: m.double_sided() })
+    } else {
+        None
+    };
+    let base = m.name().map_or_else(|| format!("material{i}"), str::to_owned);
+    Ok(Converted {
+        desc: MaterialDesc {
+            name: unique_name(&base, taken),
+            material: pbr_material(&p),
+            textures,
+            source: SourceLocation { file: file.to_owned(), line: None, item: Some(ptr) },
+        },
+        emission,
+    })
+}

@@ -1,0 +1,90 @@
+//! The glTF metallic-roughness model mapped onto quasar's analytic materials (one place, used by
+//! the glTF importer for material factors and by the renderer for textured materials at hits).
+//!
+//! quasar has one analytic lobe per material, so the layered glTF model is reduced to its dominant
+//! lobe (documented in `docs/gltf.md`):
+//! - `transmission >= 0.5` and `metallic < 0.5` -> [`Material::Dielectric`] with the glTF `ior`
+//!   (KHR_materials_ior, default 1.5); the base colour tint of the transmitted light is dropped.
+//! - `metallic >= 0.5` -> [`Material::Conductor`] with the angle-independent Fresnel reflectance
+//!   F0 = base colour (bounded RGB uplift).
+//! - otherwise -> [`Material::Diffuse`] (Lambertian) with reflectance = base colour; the
+//!   dielectric specular layer (F0 = 0.04) is dropped.
+//!
+//! In every case the GGX alpha is `roughness^2` (the glTF convention) and surfaces reflect on
+//! both sides.
+
+use quasar_materials::spectrum::Spectrum;
+use quasar_materials::{ConductorFresnel, Ior, Material};
+
+/// Threshold of `metallic` (and `transmission`) above which the metal (glass) lobe is chosen.
+pub const PBR_LOBE_THRESHOLD: f32 = 0.5;
+
+/// The glTF metallic-roughness parameters of one surface point (factors times texels).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PbrParams {
+    /// Linear base colour (RGB), clamped to [0, 1] by [`pbr_material`].
+    pub base_color: [f32; 3],
+    /// Metalness in [0, 1].
+    pub metallic: f32,
+    /// Perceptual roughness in [0, 1] (GGX alpha = roughness^2).
+    pub roughness: f32,
+    /// KHR_materials_transmission factor in [0, 1].
+    pub transmission: f32,
+    /// KHR_materials_ior (relative IOR of the inside, >= 1).
+    pub ior: f32,
+}
+
+impl Default for PbrParams {
+    fn default() -> Self {
+        Self { base_color: [1.0; 3], metallic: 1.0, roughness: 1.0, transmission: 0.0, ior: 1.5 }
+    }
+}
+
+/// Clamps to [0, 1]; NaN becomes 0.
+fn unit(x: f32) -> f32 {
+    if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) }
+}
+
+/// The analytic material for glTF parameters (see the module documentation).
+pub fn pbr_material(p: &PbrParams) -> Material {
+    let roughness = unit(p.roughness);
+    let alpha = roughness * roughness;
+    let metallic = unit(p.metallic);
+    if unit(p.transmission) >= PBR_LOBE_THRESHOLD && metallic < PBR_LOBE_THRESHOLD {
+        let ior = if p.ior.is_finite() && p.ior >= 1.0 { p.ior } else { 1.5 };
+        return Material::Dielectric { ior: Ior::Constant(ior), alpha };
+    }
+    let base = Spectrum::RgbReflectance(p.base_color.map(unit));
+    if metallic >= PBR_LOBE_THRESHOLD {
+        Material::Conductor { alpha, fresnel: ConductorFresnel::Constant(base), two_sided: true }
+    } else {
+        Material::Diffuse { reflectance: base, two_sided: true }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lobes_by_threshold() {
+        let p = PbrParams { base_color: [0.2, 0.4, 0.6], metallic: 0.0, roughness: 0.5, ..Default::default() };
+        assert_eq!(
+            pbr_material(&p),
+            Material::Diffuse { reflectance: Spectrum::RgbReflectance([0.2, 0.4, 0.6]), two_sided: true }
+        );
+        let m = pbr_material(&PbrParams { metallic: 0.6, ..p });
+        assert!(matches!(m, Material::Conductor { alpha, .. } if (alpha - 0.25).abs() < 1e-6));
+        let g = pbr_material(&PbrParams { transmission: 1.0, ior: 1.33, ..p });
+        assert_eq!(g, Material::Dielectric { ior: Ior::Constant(1.33), alpha: 0.25 });
+        // a metal does not transmit
+        assert!(matches!(
+            pbr_material(&PbrParams { transmission: 1.0, metallic: 1.0, ..p }),
+            Material::Conductor { .. }
+        ));
+        // out-of-range input is clamped, never invalid
+        let w = pbr_material(&PbrParams { base_color: [2.0, f32::NAN, -1.0], roughness: 7.0, metallic: 0.0, ..p });
+        assert_eq!(w, Material::Diffuse { reflectance: Spectrum::RgbReflectance([1.0, 0.0, 0.0]), two_sided: true });
+        assert!(w.validate().is_ok());
+    }
+}
