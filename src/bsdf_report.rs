@@ -217,3 +217,38 @@ pub fn write_lobe_plot(table: &TabulatedTable, path: &Path) -> Result<String> {
     c.save(path)?;
     Ok(legend)
 }
+
+/// Evaluates, samples and takes the pdf of `table` in a fixed set of directions on both faces
+/// and in both transport modes; an error names the first non-finite or negative result (the
+/// fuzz target and its regression test use this).
+pub fn check_finite(table: &TabulatedTable) -> Result<(), String> {
+    let wl = SampledWavelengths::from_parts([380.0, 500.0, 620.0, 800.0], [1.0; 4]);
+    let b = TabulatedBsdf::new(table, &wl);
+    let dirs = [
+        Vec3::Z,
+        Vec3::new(0.6, 0.0, 0.8),
+        Vec3::new(-0.3, 0.9, 0.3).normalize(),
+        Vec3::new(0.1, 0.2, -0.97).normalize(),
+        Vec3::new(1.0, 0.0, 1e-7).normalize(),
+    ];
+    for &wo in &dirs {
+        for &wi in &dirs {
+            for mode in [TransportMode::Radiance, TransportMode::Importance] {
+                let f = b.f(wo, wi, mode);
+                let p = b.pdf(wo, wi, mode);
+                if !f.is_finite() || f.min_component() < 0.0 || !p.is_finite() || p < 0.0 {
+                    return Err(format!("f {f:?} / pdf {p} at wo {wo}, wi {wi} ({mode:?})"));
+                }
+            }
+        }
+        for k in 0..8 {
+            let u = glam::Vec2::new((k as f32 + 0.5) / 8.0, ((k * 5 % 8) as f32 + 0.5) / 8.0);
+            if let Some(s) = b.sample_f(wo, k as f32 / 8.0, u, TransportMode::Radiance)
+                && !(s.pdf > 0.0 && s.pdf.is_finite() && s.f.is_finite() && s.wi.is_finite())
+            {
+                return Err(format!("sample {s:?} from wo {wo}"));
+            }
+        }
+    }
+    Ok(())
+}

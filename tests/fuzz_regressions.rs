@@ -71,3 +71,23 @@ fn gltf_regressions() {
     }
     assert!(errors > 0, "the hand-written hostile inputs are refused");
 }
+
+#[test]
+fn bsdf_regressions() {
+    use quasar::importers::bsdf_file::{parse_tabulated_bsdf, zemax::parse_zemax_bsdf};
+    for p in inputs("bsdf") {
+        let data = std::fs::read(&p).unwrap();
+        let Some((&kind, rest)) = data.split_first() else { continue };
+        let Ok(text) = std::str::from_utf8(rest) else { continue };
+        let table = if kind % 2 == 0 {
+            parse_tabulated_bsdf(text, &p).ok()
+        } else {
+            parse_zemax_bsdf(text, &p)
+                .ok()
+                .and_then(|c| quasar::materials::TabulatedTable::new(c.spec).ok().map(std::sync::Arc::new))
+        };
+        if let Some(t) = table {
+            quasar::bsdf_report::check_finite(&t).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+        }
+    }
+}
