@@ -12,8 +12,7 @@ use std::path::Path;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::{Vec2, Vec3};
 use quasar::materials::spectrum::SampledWavelengths;
-use quasar::materials::tabulated::ScatterGrid;
-use quasar::materials::tabulated::generate::{GridSpec, Tabulation, material_fn, power_spaced};
+use quasar::materials::tabulated::generate::{Tabulation, material_fn};
 use quasar::materials::{Bsdf, ConductorFresnel, Ior, Material, TabulatedTable, TransportMode};
 use quasar::sampling::uniform_sphere;
 
@@ -71,21 +70,7 @@ fn benches(c: &mut Criterion) {
         fresnel: ConductorFresnel::Constant(quasar::materials::spectrum::Spectrum::Constant(0.9)),
         two_sided: true,
     };
-    let spec = Tabulation {
-        name: "ggx".into(),
-        wavelengths: vec![550.0],
-        theta_i: (0..=17).map(|i| (i as f32 * 5.0).to_radians()).chain([89f32.to_radians()]).collect(),
-        phi_i: vec![0.0],
-        ior: None,
-        brdf: Some(GridSpec {
-            grid: ScatterGrid::SpecularRelative,
-            theta: power_spaced(48, std::f32::consts::PI, 2.0),
-            phi: (0..=12).map(|i| (i as f32 * 15.0).to_radians()).collect(),
-        }),
-        btdf: None,
-        both_faces: false,
-    }
-    .tabulate(material_fn(&ggx));
+    let spec = Tabulation::isotropic_brdf("ggx").tabulate(material_fn(&ggx));
     let tab = Material::Tabulated(std::sync::Arc::new(TabulatedTable::new(spec).unwrap()));
     bench_pair(c, "ggx-conductor-0.3", &ggx, &tab);
 

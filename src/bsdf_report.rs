@@ -86,9 +86,7 @@ pub fn report(table: &Arc<TabulatedTable>, file: &Path) -> BsdfReport {
     }
     let cols = columns(wl.len());
     let mut worst = (0.0f32, String::new());
-    let faces: &[(bool, &str)] =
-        if matches!(spec.back, BackFace::Own(_)) { &[(false, "front"), (true, "back")] } else { &[(false, "front")] };
-    for &(back, name) in faces {
+    for &(back, name) in table.distinct_faces() {
         let _ = writeln!(
             s,
             "\ndirectional albedo, {name} face: R (reflected) + T (transmitted) per incidence and wavelength"

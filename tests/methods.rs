@@ -6,7 +6,7 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{mean, rel_mse, render_file, write_scene};
+use common::{glossy_floor_scene, mean, rel_mse, render_file, write_scene};
 use quasar::job::JobOverrides;
 use quasar::method::BidirectionalOptions;
 
@@ -87,7 +87,7 @@ fn methods_converge_to_pt_on_the_glass_plate() {
 /// secondary highlights. Every method converges to pt.
 #[test]
 fn methods_converge_to_pt_on_a_narrow_glossy_scene() {
-    let scene = write_scene(NARROW_GLOSSY, &[]);
+    let scene = write_scene(&narrow_glossy(), &[]);
     let reference = pt_reference(&scene.path, 40, 30, 8192);
     check_methods(
         &scene.path,
@@ -107,53 +107,10 @@ fn methods_converge_to_pt_on_a_narrow_glossy_scene() {
     );
 }
 
-const NARROW_GLOSSY: &str = r#"
-[render]
-width = 40
-height = 30
-[camera]
-position = [0, 0.6, 2.4]
-target = [0, 0.3, 0]
-fov_deg = 45
-[materials.glossy]
-type = "conductor"
-fresnel = 0.9
-alpha = 0.03
-[materials.wall]
-type = "diffuse"
-reflectance = { rgb = [0.8, 0.5, 0.3] }
-[materials.white]
-type = "diffuse"
-reflectance = 0.7
-[[shape]]
-type = "quad"
-center = [0, 0, 0]
-size = [3, 3]
-normal = [0, 1, 0]
-material = "glossy"
-[[shape]]
-type = "quad"
-center = [0, 1, -1.2]
-size = [3, 2]
-normal = [0, 0, 1]
-material = "wall"
-[[shape]]
-type = "sphere"
-center = [0.3, 0.3, -0.3]
-radius = 0.3
-subdivisions = 3
-material = "white"
-[[shape]]
-type = "quad"
-center = [-0.5, 1.6, 0.2]
-size = [0.5, 0.5]
-normal = [0, -1, 0]
-material = "white"
-emission = { spectrum = { blackbody = 5000 }, scale = 6.0 }
-[[light]]
-type = "environment"
-scale = 0.05
-"#;
+/// The glossy-floor scene with a narrow (alpha 0.03) GGX conductor floor.
+fn narrow_glossy() -> String {
+    glossy_floor_scene("[materials.floor]\ntype = \"conductor\"\nfresnel = 0.9\nalpha = 0.03\n")
+}
 
 /// Which material each pixel centre sees directly (None: background), by the same camera rays.
 fn materials_seen(path: &Path, w: u32, h: u32) -> Vec<Option<String>> {
@@ -217,11 +174,12 @@ fn auto_picks_pt_for_diffuse_and_adaptive_quasi_for_narrow_scenes() {
 /// and settings a method does not use (the scene's cone under `--method vismap`) are ignored.
 #[test]
 fn render_table_sets_the_bidirectional_methods() {
-    let text = NARROW_GLOSSY.replace(
+    let base = narrow_glossy();
+    let text = base.replace(
         "[render]\nwidth = 40\nheight = 30",
         "[render]\nwidth = 8\nheight = 6\nmethod = \"quasi\"\niterations = 3\ncone_deg = 25\nphotons_per_iteration = 100",
     );
-    assert_ne!(text, NARROW_GLOSSY);
+    assert_ne!(text, base);
     let scene = write_scene(&text, &[]);
     let img = render_file(&scene.path, &JobOverrides::default()).image;
     assert_eq!(img.meta("method"), Some("quasi"));

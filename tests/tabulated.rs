@@ -7,61 +7,13 @@ mod common;
 
 use std::path::Path;
 
-use common::{mean, rel_mse, render_file, write_scene};
+use common::{glossy_floor_scene, mean, rel_mse, render_file, write_scene};
 use quasar::importers::bsdf_file::to_toml;
 use quasar::job::JobOverrides;
 use quasar::materials::spectrum::Spectrum;
-use quasar::materials::tabulated::ScatterGrid;
-use quasar::materials::tabulated::generate::{GridSpec, Tabulation, material_fn, power_spaced};
+use quasar::materials::tabulated::generate::{Tabulation, material_fn};
 use quasar::materials::{ConductorFresnel, Material};
 use quasar::method::BidirectionalOptions;
-
-/// A glossy floor mirroring a lit diffuse wall and sphere; `FLOOR` is replaced by the floor's
-/// material table.
-const SCENE: &str = r#"
-[render]
-width = 40
-height = 30
-[camera]
-position = [0, 0.6, 2.4]
-target = [0, 0.3, 0]
-fov_deg = 45
-FLOOR
-[materials.wall]
-type = "diffuse"
-reflectance = { rgb = [0.8, 0.5, 0.3] }
-[materials.white]
-type = "diffuse"
-reflectance = 0.7
-[[shape]]
-type = "quad"
-center = [0, 0, 0]
-size = [3, 3]
-normal = [0, 1, 0]
-material = "floor"
-[[shape]]
-type = "quad"
-center = [0, 1, -1.2]
-size = [3, 2]
-normal = [0, 0, 1]
-material = "wall"
-[[shape]]
-type = "sphere"
-center = [0.3, 0.3, -0.3]
-radius = 0.3
-subdivisions = 3
-material = "white"
-[[shape]]
-type = "quad"
-center = [-0.5, 1.6, 0.2]
-size = [0.5, 0.5]
-normal = [0, -1, 0]
-material = "white"
-emission = { spectrum = { blackbody = 5000 }, scale = 6.0 }
-[[light]]
-type = "environment"
-scale = 0.05
-"#;
 
 const ALPHA: f32 = 0.25;
 
@@ -73,21 +25,7 @@ fn analytic() -> Material {
 /// The same lobe sampled into a specular-relative table (plain tabulation, no energy matching).
 fn table_text() -> String {
     let m = analytic();
-    let spec = Tabulation {
-        name: "tabulated GGX".into(),
-        wavelengths: vec![550.0],
-        theta_i: (0..=17).map(|i| (i as f32 * 5.0).to_radians()).chain([89f32.to_radians()]).collect(),
-        phi_i: vec![0.0],
-        ior: None,
-        brdf: Some(GridSpec {
-            grid: ScatterGrid::SpecularRelative,
-            theta: power_spaced(48, std::f32::consts::PI, 2.0),
-            phi: (0..=12).map(|i| (i as f32 * 15.0).to_radians()).collect(),
-        }),
-        btdf: None,
-        both_faces: false,
-    }
-    .tabulate(material_fn(&m));
+    let spec = Tabulation::isotropic_brdf("tabulated GGX").tabulate(material_fn(&m));
     to_toml(&spec, "GGX alpha 0.25, Fresnel 0.9, sampled on a specular-relative grid", &[])
 }
 
@@ -110,13 +48,11 @@ fn y(path: &Path, o: &JobOverrides) -> Vec<f32> {
 #[test]
 fn tabulated_ggx_renders_like_the_analytic_material() {
     let ana = write_scene(
-        &SCENE.replace("FLOOR", &format!("[materials.floor]\ntype = \"conductor\"\nfresnel = 0.9\nalpha = {ALPHA}\n")),
+        &glossy_floor_scene(&format!("[materials.floor]\ntype = \"conductor\"\nfresnel = 0.9\nalpha = {ALPHA}\n")),
         &[],
     );
-    let tab = write_scene(
-        &SCENE.replace("FLOOR", "[materials.floor]\nfile = \"ggx.toml\"\n"),
-        &[("ggx.toml", &table_text())],
-    );
+    let tab =
+        write_scene(&glossy_floor_scene("[materials.floor]\nfile = \"ggx.toml\"\n"), &[("ggx.toml", &table_text())]);
     let spp = 512;
     let a1 = y(&ana.path, &ov("pt", 1, spp));
     let a2 = y(&ana.path, &ov("pt", 2, spp));

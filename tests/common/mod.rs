@@ -95,3 +95,54 @@ pub fn check_furnace(img: &quasar::output::ExrImage, a: f64, le: f64, label: &st
     let ind = a * a * le / (1.0 - a);
     assert!((i - ind).abs() < 0.03 * ind, "{label}: indirect {i}");
 }
+
+/// A 40 x 30 scene of a glossy floor mirroring a lit diffuse wall and sphere (secondary
+/// highlights): `floor` is the `[materials.floor]` table of the floor.
+pub fn glossy_floor_scene(floor: &str) -> String {
+    GLOSSY_FLOOR.replace("FLOOR", floor)
+}
+
+const GLOSSY_FLOOR: &str = r#"
+[render]
+width = 40
+height = 30
+[camera]
+position = [0, 0.6, 2.4]
+target = [0, 0.3, 0]
+fov_deg = 45
+FLOOR
+[materials.wall]
+type = "diffuse"
+reflectance = { rgb = [0.8, 0.5, 0.3] }
+[materials.white]
+type = "diffuse"
+reflectance = 0.7
+[[shape]]
+type = "quad"
+center = [0, 0, 0]
+size = [3, 3]
+normal = [0, 1, 0]
+material = "floor"
+[[shape]]
+type = "quad"
+center = [0, 1, -1.2]
+size = [3, 2]
+normal = [0, 0, 1]
+material = "wall"
+[[shape]]
+type = "sphere"
+center = [0.3, 0.3, -0.3]
+radius = 0.3
+subdivisions = 3
+material = "white"
+[[shape]]
+type = "quad"
+center = [-0.5, 1.6, 0.2]
+size = [0.5, 0.5]
+normal = [0, -1, 0]
+material = "white"
+emission = { spectrum = { blackbody = 5000 }, scale = 6.0 }
+[[light]]
+type = "environment"
+scale = 0.05
+"#;

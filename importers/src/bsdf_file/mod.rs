@@ -13,11 +13,11 @@ use std::sync::Arc;
 
 use quasar_materials::tabulated::{BackFace, Face, MAX_AXIS_LEN, MAX_TABLE_ENTRIES, ScatterGrid, ScatterTable};
 use quasar_materials::{TabulatedSpec, TabulatedTable};
-use toml::de::{DeTable, DeValue};
+use toml::de::DeValue;
 
 use crate::error::{ErrorPlace, ImportError, ImportErrorKind};
 use crate::obj::read_small_text;
-use crate::toml_scene::reader::{Doc, Span, Tbl, Val, float_list, number};
+use crate::toml_scene::reader::{Doc, Span, Tbl, Val, float_list, number, parse_document};
 
 mod write;
 pub mod zemax;
@@ -82,12 +82,9 @@ fn parse_checked(text: &str, path: &Path, check_energy: bool) -> Result<Arc<Tabu
 
 /// Parses the text into an unvalidated spec plus the spans of its tables (for later errors).
 pub fn parse_spec(text: &str, path: &Path) -> Result<(TabulatedSpec, HashMap<String, Span>), ImportError> {
-    let root = DeTable::parse(text).map_err(|e| {
-        let place = e.span().map_or_else(|| ErrorPlace::file(path), |s| ErrorPlace::at_offset(path, text, s.start));
-        ImportError::new(ImportErrorKind::Syntax, place, format!("TOML syntax error: {}", e.message().trim_end()))
-    })?;
-    let doc = Doc { file: path, src: text, dir: path.parent().map(Path::to_path_buf).unwrap_or_default() };
-    let top = Tbl { doc: &doc, t: root.get_ref(), span: root.span(), path: String::new() };
+    let root = parse_document(text, path)?;
+    let doc = Doc::new(path, text);
+    let top = Tbl::root(&doc, &root);
     top.check_keys(&TOP_KEYS)?;
     match top.opt_str("format")? {
         Some(FORMAT) => {}

@@ -17,13 +17,13 @@ use std::path::Path;
 use glam::{Affine3A, Vec3};
 use quasar_materials::Material;
 use quasar_materials::spectrum::Spectrum;
-use toml::de::{DeTable, DeValue};
+use toml::de::DeValue;
 
 pub use material::MATERIAL_TYPES;
 pub use shape::{DEFAULT_DISK_SEGMENTS, DEFAULT_SPHERE_SUBDIVISIONS, MAX_DISK_SEGMENTS, MAX_SPHERE_SUBDIVISIONS};
 pub use spectrum::{MAX_SPECTRUM_ENTRIES, csv_spectrum};
 
-use self::reader::{Doc, Tbl, Val, string};
+use self::reader::{Doc, Tbl, Val, parse_document, string};
 use crate::error::{ErrorPlace, ImportError, ImportErrorKind, did_you_mean};
 use crate::glob::glob_match;
 use crate::obj::{ObjMaterials, import_obj, read_small_text, unique_name};
@@ -80,12 +80,9 @@ fn import_at_depth(path: &Path, opts: &ImportOptions, depth: u32) -> Result<Scen
 
 fn parse_at_depth(text: &str, path: &Path, opts: &ImportOptions, depth: u32) -> Result<SceneDesc, ImportError> {
     let extra = opts.scale(path)?;
-    let root = DeTable::parse(text).map_err(|e| {
-        let place = e.span().map_or_else(|| ErrorPlace::file(path), |s| ErrorPlace::at_offset(path, text, s.start));
-        ImportError::new(ImportErrorKind::Syntax, place, format!("TOML syntax error: {}", e.message().trim_end()))
-    })?;
-    let doc = Doc { file: path, src: text, dir: path.parent().map(Path::to_path_buf).unwrap_or_default() };
-    let top = Tbl { doc: &doc, t: root.get_ref(), span: root.span(), path: String::new() };
+    let root = parse_document(text, path)?;
+    let doc = Doc::new(path, text);
+    let top = Tbl::root(&doc, &root);
     top.check_keys(&TOP_KEYS)?;
     let scene_unit = units(&top, "units")?.unwrap_or(1.0);
     let mut b = Builder {

@@ -26,6 +26,21 @@ pub(crate) struct Doc<'a> {
     pub dir: PathBuf,
 }
 
+/// Parses TOML text read from `path`; a syntax error names its line and column.
+pub(crate) fn parse_document<'a>(text: &'a str, path: &Path) -> Result<Spanned<DeTable<'a>>, ImportError> {
+    DeTable::parse(text).map_err(|e| {
+        let place = e.span().map_or_else(|| ErrorPlace::file(path), |s| ErrorPlace::at_offset(path, text, s.start));
+        ImportError::new(ImportErrorKind::Syntax, place, format!("TOML syntax error: {}", e.message().trim_end()))
+    })
+}
+
+impl<'a> Doc<'a> {
+    /// The document of `src` read from `file`; relative names resolve against its directory.
+    pub fn new(file: &'a Path, src: &'a str) -> Self {
+        Self { file, src, dir: file.parent().map(Path::to_path_buf).unwrap_or_default() }
+    }
+}
+
 impl Doc<'_> {
     /// The line/column place of a span's start.
     pub fn place(&self, span: &Span) -> ErrorPlace {
@@ -178,6 +193,11 @@ pub(crate) struct Tbl<'a> {
 }
 
 impl<'a> Tbl<'a> {
+    /// The top-level table of a parsed document.
+    pub fn root(doc: &'a Doc<'a>, root: &'a Spanned<DeTable<'a>>) -> Self {
+        Self { doc, t: root.get_ref(), span: root.span(), path: String::new() }
+    }
+
     /// Views `v` as a table named `path`; other types are an error.
     pub fn of(doc: &'a Doc<'a>, v: &'a Val<'a>, path: impl Into<String>) -> Result<Self, ImportError> {
         let path = path.into();

@@ -58,6 +58,26 @@ pub struct Tabulation {
 }
 
 impl Tabulation {
+    /// An isotropic, spectrally flat (550 nm) reflector's grid: incidence 0..85 degrees in 5
+    /// degree steps plus 89, a specular-relative BRDF grid of 48 polar angles over the whole
+    /// sphere (packed near the mirror direction) and azimuths 0..180 in 15 degree steps.
+    pub fn isotropic_brdf(name: &str) -> Self {
+        Self {
+            name: name.to_owned(),
+            wavelengths: vec![550.0],
+            theta_i: (0..=17).map(|i| (i as f32 * 5.0).to_radians()).chain([89f32.to_radians()]).collect(),
+            phi_i: vec![0.0],
+            ior: None,
+            brdf: Some(GridSpec {
+                grid: ScatterGrid::SpecularRelative,
+                theta: power_spaced(48, std::f32::consts::PI, 2.0),
+                phi: (0..=12).map(|i| (i as f32 * 15.0).to_radians()).collect(),
+            }),
+            btdf: None,
+            both_faces: false,
+        }
+    }
+
     /// Tabulates `f(lambda_nm, d_in, d_out)` (light arriving from unit `d_in`, leaving along
     /// `d_out`; local frame) on the front face, and on the back face when `both_faces`.
     pub fn tabulate(&self, f: impl Fn(f32, Vec3, Vec3) -> f32) -> TabulatedSpec {

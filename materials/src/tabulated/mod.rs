@@ -413,13 +413,18 @@ impl TabulatedTable {
         (one(false), one(true))
     }
 
-    fn check_energy(&self) -> Result<(), TableError> {
-        let faces: &[(bool, &str)] = if matches!(self.spec.back, BackFace::Own(_)) {
+    /// The faces with their own data, as (`back`, name): the front, and the back when it has
+    /// its own tables (a "same" back repeats the front, a "black" one scatters nothing).
+    pub fn distinct_faces(&self) -> &'static [(bool, &'static str)] {
+        if matches!(self.spec.back, BackFace::Own(_)) {
             &[(false, "front"), (true, "back")]
         } else {
             &[(false, "front")]
-        };
-        for &(back, name) in faces {
+        }
+    }
+
+    fn check_energy(&self) -> Result<(), TableError> {
+        for &(back, name) in self.distinct_faces() {
             for pi in 0..self.spec.phi_i.len() {
                 for ti in 0..self.spec.theta_i.len() {
                     for l in 0..self.spec.wavelengths.len() {
