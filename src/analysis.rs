@@ -9,10 +9,10 @@ use quasar_materials::Material;
 use crate::light::Light;
 use crate::scene::Scene;
 
-/// Non-uniformity kappa (at 45 degrees incidence) above which a material counts as a narrow lobe: its photon density
-/// estimates would be noisy, so gathering should move elsewhere (adaptive depth) and its lobe
-/// should be traced through (quasi-specular cone).
-pub const NARROW_KAPPA: f32 = 20.0;
+/// Non-uniformity kappa (at 45 degrees incidence) above which a material counts as a narrow
+/// lobe: its photon density estimates would be noisy, so gathering should move elsewhere
+/// (adaptive depth) and its lobe should be traced through (quasi-specular methods).
+pub use quasar_materials::NARROW_KAPPA;
 
 /// What a scene contains that matters for the choice of method.
 #[derive(Clone, Debug, PartialEq)]

@@ -4,19 +4,21 @@
 //! the image an uninterrupted render gives (every pixel sums its samples in index order, and each
 //! iteration depends only on its index and the stored histograms).
 //!
-//! Format (little-endian): magic `QSRCKPT1`, fingerprint u64 (scene and settings), width u32,
+//! Format (little-endian): magic `QSRCKPT2`, fingerprint u64 (scene and settings), width u32,
 //! height u32, done u32, next u32, pixel count u64, then per pixel 12 f64 layer sums, y_sq f64,
-//! samples u64, rejected u64; then histogram count u64 and 8 u32 per pixel; then depth sums u64
-//! and counts u32 per pixel (count u64 first).
+//! 4 f64 layer y_sq, samples u64, rejected u64; then the block batch statistics: level count
+//! u64 (0: none), batches u64, and per level and block 5 f64 sums and 5 f64 sums of squares;
+//! then histogram count u64 and 8 u32 per pixel; then depth sums u64 and counts u32 per pixel
+//! (count u64 first).
 
 use std::fmt::Write as _;
 use std::io::{Read, Write};
 use std::path::Path;
 
-use crate::film::{Film, N_LAYERS, PixelSum};
+use crate::film::{Film, N_LAYERS, N_QUANTITIES, PixelSum};
 use crate::sampling::mix64;
 
-const MAGIC: &[u8; 8] = b"QSRCKPT1";
+const MAGIC: &[u8; 8] = b"QSRCKPT2";
 
 /// What a render has accumulated so far.
 #[derive(Clone, Debug, PartialEq)]
@@ -71,7 +73,7 @@ fn put_u64(w: &mut Vec<u8>, v: u64) {
 
 /// Writes `state` with `fingerprint` to `path` atomically (temporary file + rename).
 pub fn write(path: &Path, fingerprint: u64, state: &RenderState) -> Result<(), String> {
-    let mut w = Vec::with_capacity(state.film.pixels.len() * 128 + 64);
+    let mut w = Vec::with_capacity(state.film.pixels.len() * 160 + 64);
     w.extend_from_slice(MAGIC);
     put_u64(&mut w, fingerprint);
     put_u32(&mut w, state.film.width);
@@ -86,8 +88,23 @@ pub fn write(path: &Path, fingerprint: u64, state: &RenderState) -> Result<(), S
             }
         }
         w.extend_from_slice(&p.y_sq.to_le_bytes());
+        for v in &p.layer_y_sq {
+            w.extend_from_slice(&v.to_le_bytes());
+        }
         put_u64(&mut w, p.samples);
         put_u64(&mut w, p.rejected);
+    }
+    match &state.film.blocks {
+        None => put_u64(&mut w, 0),
+        Some(b) => {
+            put_u64(&mut w, b.levels.len() as u64);
+            put_u64(&mut w, b.batches);
+            for l in &b.levels {
+                for v in l.sum.iter().chain(&l.sum_sq).flatten() {
+                    w.extend_from_slice(&v.to_le_bytes());
+                }
+            }
+        }
     }
     put_u64(&mut w, state.histogram.len() as u64);
     for h in &state.histogram {
@@ -160,7 +177,7 @@ pub fn read(path: &Path, fingerprint: u64) -> Result<RenderState, String> {
     let (width, height, done, next) =
         (r.u32().map_err(e)?, r.u32().map_err(e)?, r.u32().map_err(e)?, r.u32().map_err(e)?);
     let n = r.u64().map_err(e)?;
-    if n != width as u64 * height as u64 || n > (bytes.len() / 120) as u64 {
+    if n != width as u64 * height as u64 || n > (bytes.len() / 152) as u64 {
         return Err(e(format!("pixel count {n} does not match {width}x{height} or the file size")));
     }
     let mut film = Film::new(width, height);
@@ -172,9 +189,28 @@ pub fn read(path: &Path, fingerprint: u64) -> Result<RenderState, String> {
             }
         }
         s.y_sq = r.f64().map_err(e)?;
+        for v in s.layer_y_sq.iter_mut() {
+            *v = r.f64().map_err(e)?;
+        }
         s.samples = r.u64().map_err(e)?;
         s.rejected = r.u64().map_err(e)?;
         *p = s;
+    }
+    let n_levels = r.u64().map_err(e)?;
+    if n_levels > 0 {
+        let mut blocks = crate::film::BlockBatches::new(width as usize, height as usize);
+        if n_levels != blocks.levels.len() as u64 {
+            return Err(e(format!("{n_levels} block levels for a {width}x{height} image")));
+        }
+        blocks.batches = r.u64().map_err(e)?;
+        for l in blocks.levels.iter_mut() {
+            for v in l.sum.iter_mut().chain(l.sum_sq.iter_mut()) {
+                for q in v.iter_mut().take(N_QUANTITIES) {
+                    *q = r.f64().map_err(e)?;
+                }
+            }
+        }
+        film.blocks = Some(blocks);
     }
     let nh = r.u64().map_err(e)?;
     if nh != 0 && nh != n {

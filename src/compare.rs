@@ -50,7 +50,10 @@ pub fn compare(img: &ExrImage, reference: &ExrImage, only: Option<&str>) -> Resu
     let mut layers: Vec<&str> = Vec::new();
     for c in &img.channels {
         let l = layer_of(&c.name);
-        if matches!(l, "spp" | "depth") || reference.channel(&c.name).is_none() || layers.contains(&l) {
+        if matches!(l, "spp" | "depth" | "stderr" | "trace_depth")
+            || reference.channel(&c.name).is_none()
+            || layers.contains(&l)
+        {
             continue;
         }
         if only.is_none_or(|o| o == l || (o == "beauty" && l.is_empty())) {

@@ -27,6 +27,7 @@ pub mod plot;
 pub mod render;
 pub mod sampling;
 pub mod scene;
+pub mod ztest;
 
 pub use quasar_importers as importers;
 pub use quasar_materials as materials;

@@ -119,6 +119,10 @@ enum Command {
         /// Write a false-colour PNG of the relative luminance difference (red: brighter).
         #[arg(long)]
         diff: Option<PathBuf>,
+        /// Also run the block z-test of the luminance against the reference with both images'
+        /// standard errors (exit code 1 when it fails).
+        #[arg(long)]
+        z_test: bool,
     },
     /// Merge independent renders of one scene (e.g. `--shard K/N` shards) into one image,
     /// weighting every pixel by its sample counts.
@@ -471,7 +475,7 @@ fn run() -> anyhow::Result<()> {
             }
             Ok(())
         }
-        Command::Compare { image, reference, layer, diff } => {
+        Command::Compare { image, reference, layer, diff, z_test } => {
             let a = quasar::output::read_exr(&image)?;
             let r = quasar::output::read_exr(&reference)?;
             let errors = quasar::compare::compare(&a, &r, layer.as_deref()).map_err(anyhow::Error::msg)?;
@@ -487,6 +491,22 @@ fn run() -> anyhow::Result<()> {
             }
             if let Some(p) = diff {
                 quasar::compare::write_difference_png(&a, &r, &p).map_err(anyhow::Error::msg)?;
+            }
+            if z_test {
+                let est = |img, path: &PathBuf| {
+                    quasar::ztest::Estimate::from_exr(img).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
+                };
+                let report = quasar::ztest::ZTest::default()
+                    .run(&est(&a, &image)?, &est(&r, &reference)?)
+                    .map_err(anyhow::Error::msg)?;
+                print!("{report}");
+                if report.failed() {
+                    anyhow::bail!(
+                        "{} differs from {} beyond its standard errors",
+                        image.display(),
+                        reference.display()
+                    );
+                }
             }
             Ok(())
         }

@@ -80,7 +80,10 @@ pub fn merge(images: &[ExrImage]) -> Result<ExrImage, String> {
                 })
                 .collect(),
             "Y" => mean_y.iter().map(|&v| v as f32).collect(),
-            name => weighted(name).iter().map(|&v| v as f32).collect(),
+            name => match name.strip_prefix("stderr.block").and_then(|s| s.parse::<usize>().ok()) {
+                Some(size) if size > 0 => pooled_block_stderr(images, &counts, name, size),
+                _ => weighted(name).iter().map(|&v| v as f32).collect(),
+            },
         };
         channels.push(Channel { name: c.name.clone(), values });
     }
@@ -97,4 +100,43 @@ pub fn merge(images: &[ExrImage]) -> Result<ExrImage, String> {
     }
     metadata.push(("merged_from".into(), images.len().to_string()));
     Ok(ExrImage { width: first.width, height: first.height, channels, metadata })
+}
+
+/// The `stderr.block<size>` channel `name` of the merged image: per block, the batch
+/// statistics of every input (K batches, block mean m, standard error se: sum of the squared
+/// batch means = (K - 1) K se^2 + K m^2) pooled like the pixels' `stderr.Y`.
+fn pooled_block_stderr(images: &[ExrImage], counts: &[&[f32]], name: &str, size: usize) -> Vec<f32> {
+    let (w, h) = (images[0].width, images[0].height);
+    let cols = w.div_ceil(size);
+    let blocks = cols * h.div_ceil(size);
+    let mut k_total = vec![0.0f64; blocks];
+    let mut sum = vec![0.0f64; blocks];
+    let mut sum_sq = vec![0.0f64; blocks];
+    for (img, n) in images.iter().zip(counts) {
+        let (y, se) = (img.channel("Y").unwrap_or_default(), img.channel(name).unwrap_or_default());
+        let mut mean = vec![(0.0f64, 0usize); blocks];
+        for (p, &v) in y.iter().enumerate().take(w * h) {
+            let b = (p / w / size) * cols + (p % w) / size;
+            mean[b].0 += v as f64;
+            mean[b].1 += 1;
+        }
+        for (b, (s, c)) in mean.iter().enumerate() {
+            let first = (b / cols) * size * w + (b % cols) * size;
+            let (k, m, e) = (n[first] as f64, s / (*c).max(1) as f64, se[first] as f64);
+            k_total[b] += k;
+            sum[b] += k * m;
+            sum_sq[b] += (k - 1.0).max(0.0) * k * e * e + k * m * m;
+        }
+    }
+    (0..w * h)
+        .map(|p| {
+            let b = (p / w / size) * cols + (p % w) / size;
+            let k = k_total[b];
+            if k < 2.0 {
+                return 0.0;
+            }
+            let m = sum[b] / k;
+            (((sum_sq[b] - k * m * m) / (k - 1.0)).max(0.0) / k).sqrt() as f32
+        })
+        .collect()
 }

@@ -15,5 +15,5 @@ pub mod warp;
 pub use bsdf::{Bsdf, BsdfSample, Lobe, TransportMode};
 pub use frame::Frame;
 pub use material::{ConductorFresnel, Ior, Material};
-pub use non_uniformity::NonUniformity;
+pub use non_uniformity::{NARROW_KAPPA, NonUniformity};
 pub use tabulated::{TabulatedBsdf, TabulatedSpec, TabulatedTable};

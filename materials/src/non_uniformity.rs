@@ -16,6 +16,11 @@ use crate::bsdf::{Bsdf, TransportMode};
 use crate::material::Material;
 use crate::spectrum::{SampledWavelengths, cie};
 
+/// kappa above which a lobe counts as narrow: photon density estimates there are noise (a
+/// GGX lobe of alpha below about 0.1). The scene analysis calls such materials narrow, and the
+/// quasi-specular methods never gather at a vertex whose kappa(wo) exceeds it.
+pub const NARROW_KAPPA: f32 = 20.0;
+
 /// Number of incidence cosines tabulated, uniformly over cos(theta_o) in [-1, 1].
 pub const KAPPA_TABLE_SIZE: usize = 33;
 /// Directions sampled per incidence to estimate the albedo and the maximum.

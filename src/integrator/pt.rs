@@ -44,21 +44,63 @@ pub fn russian_roulette(beta: &mut SampledSpectrum, eta_scale: f32, u: f32) -> b
     true
 }
 
+/// A camera path between two vertices: what [`trace`] needs to continue it.
+#[derive(Clone, Copy, Debug)]
+pub struct PathState {
+    /// Throughput from the eye to the next vertex.
+    pub beta: SampledSpectrum,
+    /// Layer class of the path so far.
+    pub class: PathClass,
+    /// The vertex the next ray leaves (for the MIS weight of emission found along it).
+    pub prev: PrevVertex,
+    /// Product of eta^2 over refractions (undone for Russian roulette).
+    pub eta_scale: f32,
+    /// Scattering events so far.
+    pub depth: u32,
+}
+
+impl PathState {
+    /// A path leaving the eye at `origin`.
+    pub fn eye(origin: glam::Vec3) -> Self {
+        Self {
+            beta: SampledSpectrum::one(),
+            class: PathClass::default(),
+            prev: PrevVertex::eye(origin),
+            eta_scale: 1.0,
+            depth: 0,
+        }
+    }
+}
+
 /// Traces one camera path and returns its layered radiance at the (possibly terminated)
 /// wavelengths `wl`.
 pub fn radiance(
     scene: &Scene,
-    mut ray: Ray,
+    ray: Ray,
     wl: &mut SampledWavelengths,
     sampler: &mut Sampler,
     settings: &PtSettings,
 ) -> LayeredRadiance {
     let mut out = LayeredRadiance::default();
-    let mut beta = SampledSpectrum::one();
-    let mut class = PathClass::default();
-    let mut prev = PrevVertex::eye(ray.origin);
-    let mut eta_scale = 1.0f32;
-    let mut depth = 0u32;
+    trace(scene, ray, PathState::eye(ray.origin), wl, sampler, settings, &mut out);
+    out
+}
+
+/// Continues a path in `state` along `ray` as the path tracer does (NEE + MIS at every
+/// non-specular vertex, Russian roulette from `settings.rr_depth` scattering events), adding
+/// what it finds to `out`. The bidirectional methods call it where their own estimator ends
+/// a path for a reason other than the estimate itself (a cap on gather points or specular
+/// events), so that no light is lost there (DESIGN.md 3.4).
+pub fn trace(
+    scene: &Scene,
+    mut ray: Ray,
+    state: PathState,
+    wl: &mut SampledWavelengths,
+    sampler: &mut Sampler,
+    settings: &PtSettings,
+    out: &mut LayeredRadiance,
+) {
+    let PathState { mut beta, mut class, mut prev, mut eta_scale, mut depth } = state;
     loop {
         let Some(si) = scene.intersect(&ray) else {
             out.add(class, beta * escaped_radiance(scene, &prev, wl));
@@ -93,5 +135,4 @@ pub fn radiance(
             break;
         }
     }
-    out
 }

@@ -233,7 +233,7 @@ fn render_in_pool(
     let start = Instant::now();
     let (w, h) = (camera.width(), camera.height());
     let n_pixels = w as usize * h as usize;
-    let mut film = Film::new(w, h);
+    let mut film = Film::with_block_batches(w, h);
     let n_photons = settings.photons_per_iteration.unwrap_or(n_pixels as u64).max(1);
     let pixel_angle = camera.pixel_solid_angle().sqrt();
     let alpha = settings.alpha.clamp(1e-3, 1.0) as f64;
@@ -326,7 +326,7 @@ fn render_in_pool(
                 l.caustic += g.specular_only;
             }
         }
-        film.pixels.par_iter_mut().zip(estimates.par_iter()).for_each(|(px, (l, wl))| px.add(l, wl));
+        film.add_batch(&estimates);
         done += 1;
         if let Some(b) = &bar {
             b.inc(1);

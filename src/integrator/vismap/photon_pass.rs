@@ -3,8 +3,8 @@
 //! non-specular hit after at least one bounce add f(wo, wi) * flux to the visibility points whose
 //! gather disk contains the hit.
 
-use quasar_materials::TransportMode;
 use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
+use quasar_materials::{NARROW_KAPPA, TransportMode};
 use rayon::prelude::*;
 
 use super::grid::VisibilityGrid;
@@ -217,8 +217,13 @@ fn trace_photon(
             break;
         }
         specular_only &= bs.specular;
+        // the camera side passes through narrow lobes and cones: photons bounced there stay
+        // caustic photons (sharp, gathered with the caustic radius)
         caustic &= bs.specular
-            || cone_cos.is_some_and(|c| QuasiCone::at(&bsdf, wo_local, c).is_some_and(|k| k.contains(bs.wi)));
+            || cone_cos.is_some_and(|c| {
+                scene.non_uniformity[si.material as usize].at(wo_local.z) > NARROW_KAPPA
+                    || QuasiCone::at(&bsdf, wo_local, c).is_some_and(|k| k.contains(bs.wi))
+            });
         ray = si.spawn_ray(wi);
         if bounce + 1 >= RR_DEPTH {
             // roulette on the throughput relative to the emitted flux

@@ -4,17 +4,19 @@
 
 use glam::Vec3;
 use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
-use quasar_materials::{Bsdf, Frame, TransportMode};
+use quasar_materials::{Bsdf, Frame, Lobe, NARROW_KAPPA, TransportMode};
 
 use super::quasi_cone::{QuasiCone, in_cone};
 use crate::geometry::Ray;
 use crate::integrator::direct::{PrevVertex, emitted_at_hit, escaped_radiance, sample_direct, sample_direct_outside};
 use crate::integrator::layers::{LayeredRadiance, PathClass};
+use crate::integrator::pt::{self, PathState, PtSettings};
 use crate::integrator::scatter::scatter;
 use crate::sampling::Sampler;
 use crate::scene::{Scene, SurfaceInteraction};
 
-/// Most visibility points one camera path may leave (a chain of quasi-specular gather vertices).
+/// Most visibility points one camera path may leave (a chain of quasi-specular gather vertices);
+/// the path continues as the path tracer after the last one.
 pub const MAX_POINTS_PER_PATH: usize = 8;
 
 /// A camera-path vertex where photons are gathered.
@@ -53,8 +55,22 @@ pub struct GatherRule {
     pub depth: u32,
     /// cos(theta_c) of the quasi-specular cone, or None (plain `vismap`).
     pub cone_cos: Option<f32>,
-    /// Longest chain of specular events a camera path follows.
+    /// Specular and passed-through events after which a camera path is continued as the path
+    /// tracer (with Russian roulette: a chain of mirrors need not end otherwise).
     pub max_specular: u32,
+}
+
+impl GatherRule {
+    /// True at a vertex the quasi-specular methods pass through instead of gathering: its lobe
+    /// is narrow (kappa(wo) > [`NARROW_KAPPA`]), so photons arriving from outside the cone are
+    /// too rare there to estimate the rest of the sphere (they would show as fireflies and as
+    /// light missing everywhere else). Such a vertex is traced like one before the gather
+    /// depth: full NEE with MIS and a BSDF-sampled continuation over the whole sphere, which is
+    /// unbiased, and it does not count as depth.
+    #[inline]
+    pub fn passes_through(&self, scene: &Scene, si: &SurfaceInteraction, wo_local: Vec3) -> bool {
+        self.cone_cos.is_some() && scene.non_uniformity[si.material as usize].at(wo_local.z) > NARROW_KAPPA
+    }
 }
 
 /// What one camera path of an iteration produced.
@@ -98,11 +114,15 @@ fn direct_by_bsdf_sample(
 /// At a non-specular vertex before the gather depth, MIS direct light is added and the path
 /// continues by BSDF sampling (a sample inside the quasi-specular cone does not count as
 /// depth). At a gather vertex, direct light restricted to C' is added (light sampling + one BSDF
-/// sample, MIS) and a visibility point gathering photons from C' is left; a BSDF sample inside C
-/// continues the path (the integral over C), otherwise its one segment is traced for the emitter
-/// hit and the path ends. Without a cone every gather vertex ends the path (plain `vismap`).
-/// Paths are not Russian-rouletted: they are at most `depth` + 1 non-specular vertices long
-/// (plus quasi-specular chains of at most [`MAX_POINTS_PER_PATH`] gather vertices).
+/// sample, MIS; delta lights are never restricted, since no continued path can reach them) and
+/// a visibility point gathering photons from C' is left; a BSDF sample inside C continues the
+/// path (the integral over C), otherwise its one segment is traced for the emitter hit and the
+/// path ends. Without a cone every gather vertex ends the path (plain `vismap`). Paths are not
+/// Russian-rouletted while they leave visibility points; a path that reaches
+/// [`MAX_POINTS_PER_PATH`] gather vertices, or more than `max_specular` specular or
+/// passed-through ([`GatherRule::passes_through`]) events, is
+/// continued from there as the path tracer ([`pt::trace`]) so that the light from C there is
+/// not lost (DESIGN.md 3.4: no path is cut by a cap).
 pub fn trace_camera_path<'s>(
     scene: &'s Scene,
     mut ray: Ray,
@@ -117,7 +137,9 @@ pub fn trace_camera_path<'s>(
     let mut prev = PrevVertex::eye(ray.origin);
     let mut footprint_distance = 0.0f32;
     let mut depth = 0u32;
-    let mut specular_events = 0u32;
+    let mut pass_through_events = 0u32;
+    let mut eta_scale = 1.0f32;
+    let mut events = 0u32;
     loop {
         let Some(si) = scene.intersect(&ray) else {
             out.add(class, beta * escaped_radiance(scene, &prev, &wl));
@@ -132,8 +154,9 @@ pub fn trace_camera_path<'s>(
         let frame = si.frame();
         let wo_local = frame.to_local(wo);
         let specular = bsdf.is_specular();
-        let cone = if specular { None } else { cone_at(rule, &bsdf, wo_local) };
-        let gather = !specular && depth == rule.depth;
+        let narrow = !specular && rule.passes_through(scene, &si, wo_local);
+        let cone = if specular || narrow { None } else { cone_at(rule, &bsdf, wo_local) };
+        let gather = !specular && !narrow && depth == rule.depth;
         if gather {
             let ld = sample_direct_outside(scene, &si, &bsdf, wo_local, &wl, sampler, |w| in_cone(&cone, w));
             out.add(class.scattered(false), beta * ld);
@@ -153,11 +176,9 @@ pub fn trace_camera_path<'s>(
         } else if !specular {
             let ld = sample_direct(scene, &si, &bsdf, wo_local, &wl, sampler);
             out.add(class.scattered(false), beta * ld);
-        } else {
-            specular_events += 1;
-            if specular_events > rule.max_specular {
-                break;
-            }
+        }
+        if specular || narrow {
+            pass_through_events += 1;
         }
         let Some(sc) = scatter(&bsdf, &si, &frame, wo, wo_local, TransportMode::Radiance, sampler) else { break };
         let (bs, wi, weight) = (sc.bs, sc.wi, sc.weight());
@@ -167,22 +188,30 @@ pub fn trace_camera_path<'s>(
             out.add(class.scattered(false), beta * direct_by_bsdf_sample(scene, &si, wi, bs.pdf, weight, &wl));
             break;
         }
-        if gather && points.len() >= MAX_POINTS_PER_PATH {
-            break;
-        }
         beta *= weight;
         if !beta.is_finite() || beta.is_black() {
             break;
         }
         class = class.scattered(bs.specular);
-        if !bs.specular && !quasi_specular {
+        if !bs.specular && !quasi_specular && !narrow {
             depth += 1;
         }
+        if bs.lobe == Lobe::Transmission {
+            eta_scale *= bs.eta * bs.eta;
+        }
+        events += 1;
         // inside a gather vertex's cone no light sampling covers the direction: emission found
         // there counts fully; elsewhere it is MIS-weighted against the light sample
         let pdf = if bs.specular || (gather && quasi_specular) { f32::INFINITY } else { bs.pdf };
         prev = PrevVertex { p: si.p, pdf };
         ray = si.spawn_ray(wi);
+        if points.len() >= MAX_POINTS_PER_PATH || pass_through_events > rule.max_specular {
+            // the rest of the path as the (unbiased) path tracer: full light sampling at every
+            // vertex, Russian roulette instead of a cap
+            let state = PathState { beta, class, prev, eta_scale, depth: events };
+            pt::trace(scene, ray, state, &mut wl, sampler, &PtSettings::default(), &mut out);
+            break;
+        }
     }
     CameraPathResult { radiance: out, points, wl }
 }
@@ -191,8 +220,8 @@ pub fn trace_camera_path<'s>(
 /// sampling alone (no light sampling), it returns argmin over depths j of kappa(x_j), the
 /// non-uniformity of the first non-specular vertex at depth j (ties: the smaller depth), over at
 /// most `max_depth` + 1 depths; None when the path meets no non-specular vertex. With a cone, a
-/// vertex whose sample is quasi-specular is not a candidate (its lobe is traced through; the
-/// path's gathering there covers only C'), like specular vertices.
+/// vertex whose sample is quasi-specular, or that the rule passes through (a narrow lobe), is
+/// not a candidate (its lobe is traced through), like specular vertices.
 pub fn pilot_gather_depth(
     scene: &Scene,
     mut ray: Ray,
@@ -217,8 +246,9 @@ pub fn pilot_gather_depth(
             }
         }
         let sample = scatter(&bsdf, &si, &frame, -ray.dir, wo_local, TransportMode::Radiance, sampler);
-        let cone = if specular { None } else { cone_at(rule, &bsdf, wo_local) };
-        let quasi_specular = sample.is_some_and(|sc| !sc.bs.specular && in_cone(&cone, sc.bs.wi));
+        let narrow = !specular && rule.passes_through(scene, &si, wo_local);
+        let cone = if specular || narrow { None } else { cone_at(rule, &bsdf, wo_local) };
+        let quasi_specular = narrow || sample.is_some_and(|sc| !sc.bs.specular && in_cone(&cone, sc.bs.wi));
         if !specular && !quasi_specular && last_depth_seen != Some(depth) {
             last_depth_seen = Some(depth);
             let kappa = scene.non_uniformity[si.material as usize].at(wo_local.z);

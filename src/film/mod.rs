@@ -1,8 +1,13 @@
 //! The film: per-pixel accumulation of the radiance layers in CIE XYZ, and their conversion to
-//! the output AOV channels (DESIGN.md section 5).
+//! the output AOV channels (DESIGN.md section 5), with the statistics of their standard errors.
+
+mod blocks;
+
+pub use blocks::{BLOCK_BASE, BlockBatches, BlockLevel, block_sizes};
 
 use quasar_materials::spectrum::SampledWavelengths;
 use quasar_materials::spectrum::color::xyz_to_linear_srgb;
+use rayon::prelude::*;
 
 use crate::integrator::LayeredRadiance;
 
@@ -13,6 +18,49 @@ pub const LAYER_NAMES: [&str; N_LAYERS] = ["emission", "direct", "indirect", "ca
 /// The layers whose sum is the beauty image (`caustic` is a part of `indirect`).
 pub const BEAUTY_LAYERS: usize = 3;
 
+/// A luminance the film keeps variance statistics of: the beauty image or one layer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Quantity {
+    /// Y of emission + direct + indirect.
+    Beauty,
+    /// Y of layer `LAYER_NAMES[i]`.
+    Layer(usize),
+}
+
+/// Number of [`Quantity`] values: the beauty and every layer.
+pub const N_QUANTITIES: usize = 1 + N_LAYERS;
+
+impl Quantity {
+    /// Every quantity, in index order.
+    pub const ALL: [Quantity; N_QUANTITIES] =
+        [Quantity::Beauty, Quantity::Layer(0), Quantity::Layer(1), Quantity::Layer(2), Quantity::Layer(3)];
+
+    /// Position in per-sample arrays: 0 for the beauty, 1 + i for layer i.
+    #[inline]
+    pub fn index(self) -> usize {
+        match self {
+            Self::Beauty => 0,
+            Self::Layer(i) => 1 + i,
+        }
+    }
+
+    /// The quantity of a layer name ("" or "beauty" for the beauty).
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "" | "beauty" => Some(Self::Beauty),
+            _ => LAYER_NAMES.iter().position(|&l| l == name).map(Self::Layer),
+        }
+    }
+
+    /// Name as in the EXR channels ("beauty" for the bare channels).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Beauty => "beauty",
+            Self::Layer(i) => LAYER_NAMES[i],
+        }
+    }
+}
+
 /// Sum of XYZ per layer for one pixel, in f64 so long renders do not lose precision.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PixelSum {
@@ -20,6 +68,8 @@ pub struct PixelSum {
     pub xyz: [[f64; 3]; N_LAYERS],
     /// Sum of the squared beauty luminance of the samples (for the per-pixel noise estimate).
     pub y_sq: f64,
+    /// Sum of the squared luminance of each layer's samples.
+    pub layer_y_sq: [f64; N_LAYERS],
     /// Samples accumulated (including rejected non-finite ones, which count as zero).
     pub samples: u64,
     /// Samples whose value was not finite and was dropped.
@@ -27,35 +77,60 @@ pub struct PixelSum {
 }
 
 impl PixelSum {
-    /// Adds one path's layered radiance at wavelengths `wl`. A sample with any non-finite
-    /// component is replaced by zero (and counted), so no NaN/inf can reach a pixel.
+    /// Adds one path's layered radiance at wavelengths `wl` and returns the sample's luminance
+    /// per [`Quantity`]. A sample with any non-finite component is replaced by zero (and
+    /// counted), so no NaN/inf can reach a pixel.
     #[inline]
-    pub fn add(&mut self, l: &LayeredRadiance, wl: &SampledWavelengths) {
+    pub fn add(&mut self, l: &LayeredRadiance, wl: &SampledWavelengths) -> [f64; N_QUANTITIES] {
         let layers = [wl.to_xyz(l.emission), wl.to_xyz(l.direct), wl.to_xyz(l.indirect), wl.to_xyz(l.caustic)];
         self.samples += 1;
         if layers.iter().flatten().any(|v| !v.is_finite()) {
             self.rejected += 1;
-            return;
+            return [0.0; N_QUANTITIES];
         }
-        let y: f64 = layers[..BEAUTY_LAYERS].iter().map(|v| v[1] as f64).sum();
-        self.y_sq += y * y;
+        let mut y = [0.0f64; N_QUANTITIES];
+        for (i, v) in layers.iter().enumerate() {
+            y[1 + i] = v[1] as f64;
+            self.layer_y_sq[i] += y[1 + i] * y[1 + i];
+        }
+        y[0] = y[1..=BEAUTY_LAYERS].iter().sum();
+        self.y_sq += y[0] * y[0];
         for (acc, v) in self.xyz.iter_mut().zip(layers) {
             for k in 0..3 {
                 acc[k] += v[k] as f64;
             }
         }
+        y
     }
 
-    /// Standard error of the pixel's mean beauty luminance, sqrt(s^2 / n) with the unbiased sample
-    /// variance s^2 of the per-sample luminance; 0 with fewer than two samples.
-    pub fn stderr_y(&self) -> f64 {
+    /// Sum of the samples' luminance of `q`.
+    #[inline]
+    pub fn sum_y(&self, q: Quantity) -> f64 {
+        match q {
+            Quantity::Beauty => self.xyz[..BEAUTY_LAYERS].iter().map(|l| l[1]).sum(),
+            Quantity::Layer(i) => self.xyz[i][1],
+        }
+    }
+
+    /// Standard error of the pixel's mean luminance of `q`, sqrt(s^2 / n) with the unbiased
+    /// sample variance s^2 of the per-sample luminance; 0 with fewer than two samples.
+    pub fn stderr(&self, q: Quantity) -> f64 {
         if self.samples < 2 {
             return 0.0;
         }
         let n = self.samples as f64;
-        let sum: f64 = self.xyz[..BEAUTY_LAYERS].iter().map(|l| l[1]).sum();
-        let var = ((self.y_sq - sum * sum / n) / (n - 1.0)).max(0.0);
+        let sum = self.sum_y(q);
+        let sq = match q {
+            Quantity::Beauty => self.y_sq,
+            Quantity::Layer(i) => self.layer_y_sq[i],
+        };
+        let var = ((sq - sum * sum / n) / (n - 1.0)).max(0.0);
         (var / n).sqrt()
+    }
+
+    /// Standard error of the pixel's mean beauty luminance ([`stderr`](Self::stderr) of the beauty).
+    pub fn stderr_y(&self) -> f64 {
+        self.stderr(Quantity::Beauty)
     }
 
     /// Adds another sum (same pixel, disjoint samples).
@@ -66,6 +141,9 @@ impl PixelSum {
             }
         }
         self.y_sq += o.y_sq;
+        for (a, b) in self.layer_y_sq.iter_mut().zip(o.layer_y_sq) {
+            *a += b;
+        }
         self.samples += o.samples;
         self.rejected += o.rejected;
     }
@@ -80,6 +158,10 @@ pub struct Film {
     pub height: u32,
     /// Pixel sums.
     pub pixels: Vec<PixelSum>,
+    /// Batch statistics of block means, for films filled one whole image per batch
+    /// ([`add_batch`](Self::add_batch)): the bidirectional methods, whose pixels share photons
+    /// and wavelengths within an iteration, so that per-pixel errors are correlated.
+    pub blocks: Option<BlockBatches>,
 }
 
 /// A named float channel of an output image.
@@ -94,7 +176,28 @@ pub struct Channel {
 impl Film {
     /// An empty film.
     pub fn new(width: u32, height: u32) -> Self {
-        Self { width, height, pixels: vec![PixelSum::default(); width as usize * height as usize] }
+        Self { width, height, pixels: vec![PixelSum::default(); width as usize * height as usize], blocks: None }
+    }
+
+    /// An empty film that keeps batch statistics of its block means (see [`BlockBatches`]).
+    pub fn with_block_batches(width: u32, height: u32) -> Self {
+        Self { blocks: Some(BlockBatches::new(width as usize, height as usize)), ..Self::new(width, height) }
+    }
+
+    /// Adds one sample to every pixel (row-major `samples`, one per pixel: one iteration of a
+    /// bidirectional method) and, with block statistics, the batch's block means.
+    pub fn add_batch(&mut self, samples: &[(LayeredRadiance, SampledWavelengths)]) {
+        let y: Vec<[f64; N_QUANTITIES]> =
+            self.pixels.par_iter_mut().zip(samples.par_iter()).map(|(px, (l, wl))| px.add(l, wl)).collect();
+        if let Some(b) = &mut self.blocks {
+            b.add(&y);
+        }
+    }
+
+    /// Mean luminance of `q` at pixel `i`.
+    pub fn mean_y(&self, i: usize, q: Quantity) -> f64 {
+        let p = &self.pixels[i];
+        if p.samples == 0 { 0.0 } else { p.sum_y(q) / p.samples as f64 }
     }
 
     /// Mean XYZ of `layer` at pixel `i`.
@@ -152,6 +255,9 @@ impl Film {
             name: "stderr.Y".into(),
             values: self.pixels.iter().map(|p| p.stderr_y() as f32).collect(),
         });
+        if let Some(b) = &self.blocks {
+            out.extend(b.channels(self.width as usize, self.height as usize));
+        }
         out
     }
 
