@@ -9,7 +9,7 @@
 //! 4 f64 layer y_sq, samples u64, rejected u64; then the block batch statistics: level count
 //! u64 (0: none), batches u64, and per level and block 5 f64 sums and 5 f64 sums of squares;
 //! then histogram count u64 and 8 u32 per pixel; then depth sums u64 and counts u32 per pixel
-//! (count u64 first).
+//! (count u64 first); then radius scale count u64 and one f32 per pixel.
 
 use std::fmt::Write as _;
 use std::io::{Read, Write};
@@ -35,6 +35,9 @@ pub struct RenderState {
     pub depth_sum: Vec<u64>,
     /// Per-pixel number of iterations with a gather depth.
     pub depth_count: Vec<u32>,
+    /// Per-pixel scale of the automatic gather radius (bidirectional methods; empty before the
+    /// pilot).
+    pub radius_scales: Vec<f32>,
 }
 
 /// A fingerprint of everything that must match for a resume: fed by `Debug` output in chunks,
@@ -116,6 +119,10 @@ pub fn write(path: &Path, fingerprint: u64, state: &RenderState) -> Result<(), S
     for (s, c) in state.depth_sum.iter().zip(&state.depth_count) {
         put_u64(&mut w, *s);
         put_u32(&mut w, *c);
+    }
+    put_u64(&mut w, state.radius_scales.len() as u64);
+    for v in &state.radius_scales {
+        put_u32(&mut w, v.to_bits());
     }
     let tmp = path.with_file_name(format!(
         ".{}.tmp{}",
@@ -233,8 +240,13 @@ pub fn read(path: &Path, fingerprint: u64) -> Result<RenderState, String> {
         depth_sum.push(r.u64().map_err(e)?);
         depth_count.push(r.u32().map_err(e)?);
     }
+    let nr = r.u64().map_err(e)?;
+    if nr != 0 && nr != n {
+        return Err(e("radius scales size does not match".into()));
+    }
+    let radius_scales = (0..nr).map(|_| r.u32().map(f32::from_bits)).collect::<Result<Vec<_>, _>>().map_err(e)?;
     if r.at != bytes.len() {
         return Err(e("trailing bytes".into()));
     }
-    Ok(RenderState { film, done, next, histogram, depth_sum, depth_count })
+    Ok(RenderState { film, done, next, histogram, depth_sum, depth_count, radius_scales })
 }

@@ -190,6 +190,7 @@ fn write_checkpoint(path: &std::path::Path, fingerprint: u64, film: &Film, done:
         histogram: Vec::new(),
         depth_sum: Vec::new(),
         depth_count: Vec::new(),
+        radius_scales: Vec::new(),
     };
     crate::checkpoint::save(path, fingerprint, &state);
 }

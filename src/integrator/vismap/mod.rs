@@ -8,6 +8,7 @@
 //! path tracer's image. The adaptive-depth (3.3) and quasi-specular (3.4) methods are the same
 //! passes with a per-pixel gather depth and a cone C around ideal directions.
 
+pub mod coverage;
 pub mod grid;
 pub mod photon_pass;
 pub mod quasi_cone;
@@ -22,7 +23,7 @@ use rayon::prelude::*;
 
 use self::grid::VisibilityGrid;
 use self::photon_pass::{GatherRadii, PhotonSums, trace_photons};
-use self::visibility_point::{CameraPathResult, GatherRule, pilot_gather_depth, trace_camera_path};
+use self::visibility_point::{CameraPathResult, GatherRule, VisibilityPoint, pilot_gather_depth, trace_camera_path};
 use crate::camera::Camera;
 use crate::film::{Channel, Film};
 use crate::render::{RenderResult, depth_pass, progress_bar};
@@ -246,6 +247,7 @@ fn render_in_pool(
     let mut histogram = DepthHistogram::new(n_pixels);
     let mut depth_sum = vec![0u64; n_pixels];
     let mut depth_count = vec![0u32; n_pixels];
+    let mut radius_scales: Option<Vec<f32>> = None;
     let mut done = 0;
     let mut first = 1;
     if let Some(st) = &run.resume {
@@ -259,6 +261,9 @@ fn render_in_pool(
             depth_sum.clone_from(&st.depth_sum);
             depth_count.clone_from(&st.depth_count);
         }
+        if st.radius_scales.len() == n_pixels {
+            radius_scales = Some(st.radius_scales.clone());
+        }
     }
     let mut last_checkpoint = Instant::now();
     let mut interrupted = false;
@@ -271,45 +276,25 @@ fn render_in_pool(
         if (k - 1) % shard_n != shard_k {
             continue;
         }
-        // backward pass
-        let paths: Vec<CameraPathResult> = (0..n_pixels)
-            .into_par_iter()
-            .map(|i| {
-                let mut sampler = Sampler::new(run.seed, i as u64, k as u64);
-                let film_pos = Vec2::new((i % w as usize) as f32, (i / w as usize) as f32) + sampler.get_2d();
-                let rule = GatherRule { depth: depths[i].unwrap_or(0), ..base_rule };
-                trace_camera_path(scene, camera.ray(film_pos), wl, &mut sampler, &rule)
-            })
-            .collect();
+        let scales = radius_scales.get_or_insert_with(|| {
+            radius_pilot(scene, camera, settings, &base_rule, &depths, run.seed, photon_seed, n_photons)
+        });
+        let it = Iteration { seed: run.seed, photon_seed, k, wl, n_photons };
+        let radius_of = |i: usize, vp: &VisibilityPoint| {
+            settings.radius.unwrap_or(settings.radius_pixels * pixel_angle * vp.footprint_distance * scales[i])
+                * radius2_factor(k, alpha).sqrt() as f32
+        };
+        let t_photons = Instant::now();
+        let IterationResult { paths, owners, points, radii, photons, grid_bytes } =
+            it.run(scene, camera, settings, &base_rule, &depths, radius_of);
         for (i, d) in depths.iter().enumerate() {
             if let Some(d) = d {
                 depth_sum[i] += *d as u64;
                 depth_count[i] += 1;
             }
         }
-        // visibility points and their radii for this iteration
-        let shrink = radius2_factor(k, alpha).sqrt() as f32;
-        let mut owners = Vec::new();
-        let mut points = Vec::new();
-        let mut point_wl = Vec::new();
-        let mut radii = Vec::new();
-        for (i, p) in paths.iter().enumerate() {
-            for vp in &p.points {
-                let r0 = settings.radius.unwrap_or(settings.radius_pixels * pixel_angle * vp.footprint_distance);
-                let r = r0 * shrink;
-                owners.push(i);
-                points.push(*vp);
-                point_wl.push(p.wl);
-                radii.push(GatherRadii { indirect: r, caustic: r * settings.caustic_ratio });
-            }
-        }
-        let grid_input: Vec<_> = points.iter().zip(&radii).map(|(p, r)| (p.p, r.indirect)).collect();
-        let grid = VisibilityGrid::build(&grid_input);
-        stats.grid_bytes = stats.grid_bytes.max(grid.memory_bytes());
+        stats.grid_bytes = stats.grid_bytes.max(grid_bytes);
         stats.max_points = stats.max_points.max(points.len());
-        // forward pass
-        let t_photons = Instant::now();
-        let photons = trace_photons(scene, &wl, &points, &point_wl, &radii, &grid, n_photons, photon_seed, k, cone_cos);
         stats.photon_seconds += t_photons.elapsed().as_secs_f64();
         stats.photons += n_photons;
         stats.lookups += photons.lookups;
@@ -334,7 +319,17 @@ fn render_in_pool(
         if let Some((path, fingerprint)) = &run.checkpoint
             && last_checkpoint.elapsed().as_secs_f64() >= crate::render::CHECKPOINT_INTERVAL_S
         {
-            write_state(path, *fingerprint, &film, done, k + 1, &histogram, &depth_sum, &depth_count);
+            write_state(
+                path,
+                *fingerprint,
+                &film,
+                done,
+                k + 1,
+                &histogram,
+                &depth_sum,
+                &depth_count,
+                radius_scales.as_deref(),
+            );
             last_checkpoint = Instant::now();
         }
         if crate::interrupt::requested() {
@@ -356,7 +351,17 @@ fn render_in_pool(
     }
     // the bidirectional methods stop between iterations: the state is always consistent
     if let Some((path, fingerprint)) = &run.checkpoint {
-        write_state(path, *fingerprint, &film, done, next, &histogram, &depth_sum, &depth_count);
+        write_state(
+            path,
+            *fingerprint,
+            &film,
+            done,
+            next,
+            &histogram,
+            &depth_sum,
+            &depth_count,
+            radius_scales.as_deref(),
+        );
     }
     let depth = depth_pass(scene, camera);
     let trace_depth =
@@ -365,6 +370,136 @@ fn render_in_pool(
     let result =
         RenderResult { film, depth, extra, interrupted, spp: done, seconds: start.elapsed().as_secs_f64(), threads };
     (result, stats)
+}
+
+/// Photons a gather disk should hold in an iteration: the automatic radius is shrunk (never
+/// grown) until the pilot pass's photon density puts this many photons in it.
+pub const RADIUS_PILOT_PHOTONS: f32 = 8.0;
+/// The automatic radius is not shrunk below this share of its pixel-footprint default.
+pub const MIN_RADIUS_SCALE: f32 = 0.1;
+
+/// One iteration's passes: camera paths with their visibility points, the grid over them and
+/// the photon pass at the iteration's wavelengths, all keyed by iteration number `k`.
+struct Iteration {
+    seed: u64,
+    photon_seed: u64,
+    k: u32,
+    wl: SampledWavelengths,
+    n_photons: u64,
+}
+
+/// What [`Iteration::run`] produced.
+struct IterationResult<'s> {
+    paths: Vec<CameraPathResult<'s>>,
+    /// The pixel of every visibility point.
+    owners: Vec<usize>,
+    points: Vec<VisibilityPoint<'s>>,
+    radii: Vec<GatherRadii>,
+    photons: photon_pass::PhotonPassResult,
+    grid_bytes: usize,
+}
+
+impl Iteration {
+    /// Traces one camera path per pixel at gather depths `depths`, gives every visibility
+    /// point the indirect radius `radius_of(pixel, point)` (caustic radius: the settings' ratio
+    /// of it) and gathers the iteration's photons.
+    fn run<'s>(
+        &self,
+        scene: &'s Scene,
+        camera: &Camera,
+        settings: &VismapSettings,
+        base_rule: &GatherRule,
+        depths: &[Option<u32>],
+        radius_of: impl Fn(usize, &VisibilityPoint) -> f32 + Sync,
+    ) -> IterationResult<'s> {
+        let w = camera.width() as usize;
+        let paths: Vec<CameraPathResult> = (0..depths.len())
+            .into_par_iter()
+            .map(|i| {
+                let mut sampler = Sampler::new(self.seed, i as u64, self.k as u64);
+                let film_pos = Vec2::new((i % w) as f32, (i / w) as f32) + sampler.get_2d();
+                let rule = GatherRule { depth: depths[i].unwrap_or(0), ..*base_rule };
+                trace_camera_path(scene, camera.ray(film_pos), self.wl, &mut sampler, &rule)
+            })
+            .collect();
+        let mut owners = Vec::new();
+        let mut points = Vec::new();
+        let mut point_wl = Vec::new();
+        for (i, p) in paths.iter().enumerate() {
+            for vp in &p.points {
+                owners.push(i);
+                points.push(*vp);
+                point_wl.push(p.wl);
+            }
+        }
+        let radii: Vec<GatherRadii> = (0..points.len())
+            .into_par_iter()
+            .map(|j| {
+                let (i, vp) = (owners[j], &points[j]);
+                let r = radius_of(i, vp);
+                let rc = r * settings.caustic_ratio;
+                let rotation = (mix64(self.seed ^ mix64(((self.k as u64) << 40) ^ j as u64)) >> 40) as f32
+                    * (std::f32::consts::TAU / (1u64 << 24) as f32);
+                let (ci, cc) = coverage::disk_coverage(scene, vp, r, rc, rotation);
+                GatherRadii { indirect: r, caustic: rc, indirect_coverage: ci, caustic_coverage: cc }
+            })
+            .collect();
+        let grid_input: Vec<_> = points.iter().zip(&radii).map(|(p, r)| (p.p, r.indirect)).collect();
+        let grid = VisibilityGrid::build(&grid_input);
+        let photons = trace_photons(
+            scene,
+            &self.wl,
+            &points,
+            &point_wl,
+            &radii,
+            &grid,
+            self.n_photons,
+            self.photon_seed,
+            self.k,
+            base_rule.cone_cos,
+        );
+        IterationResult { paths, owners, points, radii, photons, grid_bytes: grid.memory_bytes() }
+    }
+}
+
+/// The per-pixel scale of the automatic gather radius, from a pilot iteration (number 0, not
+/// part of the image) at the default radius: where its photon count M exceeds
+/// [`RADIUS_PILOT_PHOTONS`] the radius is scaled by sqrt(RADIUS_PILOT_PHOTONS / M), so that
+/// a disk holds about that many photons; dim pixels keep the default (scale 1). The
+/// photon-mapping bias grows with the radius squared, so many photons per iteration buy a
+/// small radius instead of a needlessly precise blur. Every shard computes the same pilot.
+#[allow(clippy::too_many_arguments)]
+fn radius_pilot(
+    scene: &Scene,
+    camera: &Camera,
+    settings: &VismapSettings,
+    base_rule: &GatherRule,
+    depths: &[Option<u32>],
+    seed: u64,
+    photon_seed: u64,
+    n_photons: u64,
+) -> Vec<f32> {
+    if settings.radius.is_some() {
+        return vec![1.0; depths.len()];
+    }
+    let wl = SampledWavelengths::sample_visible(iteration_wavelength_u(seed, 0));
+    let pixel_angle = camera.pixel_solid_angle().sqrt();
+    let it = Iteration { seed, photon_seed, k: 0, wl, n_photons };
+    let radius_of = |_: usize, vp: &VisibilityPoint| settings.radius_pixels * pixel_angle * vp.footprint_distance;
+    let r = it.run(scene, camera, settings, base_rule, depths, radius_of);
+    // photons per fully covered disk
+    let mut count = vec![(0.0f32, 0u32); depths.len()];
+    for (j, &i) in r.owners.iter().enumerate() {
+        count[i].0 += r.photons.sums[j].photons as f32 / r.radii[j].indirect_coverage;
+        count[i].1 += 1;
+    }
+    count
+        .iter()
+        .map(|&(m, n)| {
+            let m = m / n.max(1) as f32;
+            if m > RADIUS_PILOT_PHOTONS { (RADIUS_PILOT_PHOTONS / m).sqrt().max(MIN_RADIUS_SCALE) } else { 1.0 }
+        })
+        .collect()
 }
 
 /// Writes a checkpoint of the state after `done` iterations, next iteration `next`.
@@ -378,6 +513,7 @@ fn write_state(
     histogram: &DepthHistogram,
     depth_sum: &[u64],
     depth_count: &[u32],
+    radius_scales: Option<&[f32]>,
 ) {
     let state = crate::checkpoint::RenderState {
         film: film.clone(),
@@ -386,6 +522,7 @@ fn write_state(
         histogram: histogram.counts.clone(),
         depth_sum: depth_sum.to_vec(),
         depth_count: depth_count.to_vec(),
+        radius_scales: radius_scales.map_or_else(Vec::new, <[f32]>::to_vec),
     };
     crate::checkpoint::save(path, fingerprint, &state);
 }
@@ -400,20 +537,20 @@ struct Gathered {
     specular_only: SampledSpectrum,
 }
 
-/// L^I of one visibility point: beta * sum(f Phi) / (N pi r^2) for the indirect and caustic
-/// photon classes, each with its own radius.
+/// L^I of one visibility point: beta * sum(f Phi) / (N pi r^2 c) for the indirect and caustic
+/// photon classes, each with its own radius r and covered share c of its disk.
 fn gathered_radiance(sums: &PhotonSums, radii: &GatherRadii, n_photons: u64, beta: SampledSpectrum) -> Gathered {
-    let estimate = |s: &[f64; 4], r: f32| {
-        let area = PI * (r as f64) * (r as f64) * n_photons as f64;
+    let estimate = |s: &[f64; 4], r: f32, coverage: f32| {
+        let area = PI * (r as f64) * (r as f64) * coverage as f64 * n_photons as f64;
         if !(area > 0.0 && area.is_finite()) {
             return SampledSpectrum::zero();
         }
         SampledSpectrum(std::array::from_fn(|k| (s[k] / area) as f32)) * beta
     };
     Gathered {
-        indirect_radius: estimate(&sums.indirect, radii.indirect),
-        caustic_radius: estimate(&sums.caustic, radii.caustic),
-        specular_only: estimate(&sums.specular_only, radii.caustic),
+        indirect_radius: estimate(&sums.indirect, radii.indirect, radii.indirect_coverage),
+        caustic_radius: estimate(&sums.caustic, radii.caustic, radii.caustic_coverage),
+        specular_only: estimate(&sums.specular_only, radii.caustic, radii.caustic_coverage),
     }
 }
 

@@ -26,13 +26,13 @@ const MAX_BOUNCES: u32 = 1000;
 /// visibility point for the photon to count there: keeps photons on one side of a thin object
 /// (a plate on a table) or on the other wall of a corner from lighting the other. The excluded
 /// set shrinks to the surfaces' creases as the radius shrinks, so the estimate stays consistent.
-const MIN_NORMAL_COS: f32 = 0.5;
+pub const MIN_NORMAL_COS: f32 = 0.5;
 /// Largest distance of a photon hit from the visibility point's tangent plane, as a fraction of
 /// the gather radius: the gather region is a flattened disk, not a ball (Jensen 2001, 7.2), so a
 /// photon on a nearby parallel surface (the inside of a thin wall, an object within an object)
 /// is not counted. A sphere of radius R deviates from its tangent plane by s^2 / (2R) at distance
 /// s, so nothing of a curved surface is excluded while r < R / 2.
-const MAX_PLANE_DISTANCE: f32 = 0.25;
+pub const MAX_PLANE_DISTANCE: f32 = 0.25;
 
 /// Gather radii of one visibility point in the current iteration.
 #[derive(Clone, Copy, Debug)]
@@ -41,6 +41,10 @@ pub struct GatherRadii {
     pub indirect: f32,
     /// Radius for caustic photons (all bounces specular).
     pub caustic: f32,
+    /// Share of the indirect disk that can receive photons ([`super::coverage`]).
+    pub indirect_coverage: f32,
+    /// Share of the caustic disk that can receive photons.
+    pub caustic_coverage: f32,
 }
 
 /// Accumulated photon contributions of one visibility point: sum of f * flux, split by photon
@@ -53,6 +57,9 @@ pub struct PhotonSums {
     pub caustic: [f64; 4],
     /// The part of `caustic` whose bounces were all truly specular (the `caustic` AOV layer).
     pub specular_only: [f64; 4],
+    /// Photons gathered (of either class, whatever their value): the local photon density
+    /// times the gather disk's area, for the automatic radius.
+    pub photons: u32,
 }
 
 /// One photon's contribution to one visibility point.
@@ -110,6 +117,7 @@ pub fn trace_photons(
         lookups += n;
         for d in deposits {
             let sum = &mut sums[d.point as usize];
+            sum.photons += 1;
             let acc = if d.caustic { &mut sum.caustic } else { &mut sum.indirect };
             for (a, v) in acc.iter_mut().zip(d.value.0) {
                 *a += v as f64;
@@ -195,7 +203,7 @@ fn trace_photon(
                         value[0] *= 4.0;
                     }
                 }
-                if value.is_finite() && !value.is_black() {
+                if value.is_finite() {
                     deposits.push(Deposit { point: vi, caustic, specular_only, value });
                 }
             }
