@@ -146,3 +146,79 @@ emission = { spectrum = { blackbody = 5000 }, scale = 6.0 }
 type = "environment"
 scale = 0.05
 "#;
+
+/// A shipped scene file (`scenes/<name>`).
+pub fn shipped(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(name)
+}
+
+/// Overrides for a `pt` render of `spp` samples at `w` x `h`.
+pub fn pt_ov(w: u32, h: u32, spp: u32, seed: u64) -> JobOverrides {
+    JobOverrides {
+        width: Some(w),
+        height: Some(h),
+        spp: Some(spp),
+        seed: Some(seed),
+        method: Some("pt".into()),
+        ..Default::default()
+    }
+}
+
+/// Overrides for a bidirectional `method` render of `iterations` with `photons` per iteration.
+pub fn bidir_ov(w: u32, h: u32, method: &str, iterations: u32, photons: u64, seed: u64) -> JobOverrides {
+    JobOverrides {
+        width: Some(w),
+        height: Some(h),
+        seed: Some(seed),
+        method: Some(method.into()),
+        bidir: quasar::method::BidirectionalOptions {
+            iterations: Some(iterations),
+            photons_per_iteration: Some(photons),
+            ..Default::default()
+        },
+        ..Default::default()
+    }
+}
+
+/// The beauty and every layer.
+pub const ALL_QUANTITIES: [quasar::film::Quantity; quasar::film::N_QUANTITIES] = quasar::film::Quantity::ALL;
+
+/// Runs the block z-test ([`quasar::ztest`]) of `image` against `reference` for each quantity
+/// (beauty and layers, luminance), prints the reports and returns the beauty's.
+pub fn z_test(
+    label: &str,
+    image: &JobOutput,
+    reference: &JobOutput,
+    quantities: &[quasar::film::Quantity],
+) -> Vec<quasar::ztest::ZReport> {
+    use quasar::ztest::{Estimate, ZTest};
+    quantities
+        .iter()
+        .map(|&q| {
+            let a = Estimate::from_film(&image.result.film, q);
+            let b = Estimate::from_film(&reference.result.film, q);
+            let r = ZTest::default().run(&a, &b).unwrap();
+            let text = r.to_string();
+            eprintln!(
+                "{label} [{}]: {}",
+                q.name(),
+                if r.failed() { text.as_str() } else { text.lines().next().unwrap_or("") }
+            );
+            r
+        })
+        .collect()
+}
+
+/// [`z_test`], failing the test when any quantity fails.
+pub fn assert_converges(
+    label: &str,
+    image: &JobOutput,
+    reference: &JobOutput,
+    quantities: &[quasar::film::Quantity],
+) -> quasar::ztest::ZReport {
+    let reports = z_test(label, image, reference, quantities);
+    for (r, q) in reports.iter().zip(quantities) {
+        assert!(!r.failed(), "{label} [{}] differs from the reference beyond its standard errors:\n{r}", q.name());
+    }
+    reports.into_iter().next().unwrap()
+}
