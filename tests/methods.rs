@@ -4,81 +4,64 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use common::{glossy_floor_scene, mean, rel_mse, render_file, write_scene};
-use quasar::job::JobOverrides;
+use common::{
+    ALL_QUANTITIES, assert_converges_from, bidir_ov, glossy_floor_scene, mean, pt_ov, rel_mse, render_file, shipped,
+    write_scene,
+};
+use quasar::job::{JobOutput, JobOverrides};
 use quasar::method::BidirectionalOptions;
 
-fn shipped(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(name)
-}
-
-fn pt_reference(path: &Path, w: u32, h: u32, spp: u32) -> Vec<f32> {
-    let ov = JobOverrides {
-        width: Some(w),
-        height: Some(h),
-        spp: Some(spp),
-        seed: Some(101),
-        method: Some("pt".into()),
-        ..Default::default()
-    };
-    render_file(path, &ov).image.channel("Y").unwrap().to_vec()
-}
-
 fn method_ov(w: u32, h: u32, method: &str, cone: Option<f32>, iterations: u32) -> JobOverrides {
-    JobOverrides {
-        width: Some(w),
-        height: Some(h),
-        seed: Some(7),
-        method: Some(method.into()),
-        bidir: BidirectionalOptions {
-            iterations: Some(iterations),
-            photons_per_iteration: Some(20_000),
-            cone_deg: cone,
-            ..Default::default()
-        },
-        ..Default::default()
-    }
+    let mut ov = bidir_ov(w, h, method, iterations, 20_000, 7);
+    ov.bidir.cone_deg = cone;
+    ov
 }
 
 /// Renders every method/cone combination at 16 and 256 iterations and checks that relMSE against
-/// `reference` falls, ends below the bound, and that the means agree within 2%.
-fn check_methods(path: &Path, reference: &[f32], w: u32, h: u32, bounds: &[(&str, Option<f32>, f64)]) {
-    for &(method, cone, bound) in bounds {
+/// the `pt` reference falls and that the 256-iteration image passes the block z-test against it:
+/// the beauty, emission and direct layers from 4-pixel blocks, the photon-gathered indirect and
+/// caustic layers from 16-pixel blocks (their sparse caustics through the plate's thin side
+/// faces and on the narrow floor are heavy-tailed in smaller blocks at this budget); a method
+/// marked `coarse` (vismap gathering on a narrow lobe) is tested from 16-pixel blocks only.
+fn check_methods(path: &Path, reference: &JobOutput, w: u32, h: u32, methods: &[(&str, Option<f32>, bool)]) {
+    let r = reference.image.channel("Y").unwrap();
+    for &(method, cone, coarse) in methods {
         let few = render_file(path, &method_ov(w, h, method, cone, 16)).image;
-        let e_few = rel_mse(few.channel("Y").unwrap(), reference);
-        let img = render_file(path, &method_ov(w, h, method, cone, 256)).image;
-        let y = img.channel("Y").unwrap();
-        let e = rel_mse(y, reference);
-        let bias = (mean(y) - mean(reference)) / mean(reference);
-        eprintln!("{}: {method} cone {cone:?}: relMSE {e_few:.5} -> {e:.5}, mean {bias:+.4}", path.display());
+        let e_few = rel_mse(few.channel("Y").unwrap(), r);
+        let img = render_file(path, &method_ov(w, h, method, cone, 256));
+        let y = img.image.channel("Y").unwrap();
+        let e = rel_mse(y, r);
+        eprintln!("{}: {method} cone {cone:?}: relMSE {e_few:.5} -> {e:.5}", path.display());
         assert!(y.iter().all(|v| v.is_finite()));
         assert!(e < e_few, "{method} cone {cone:?}: relMSE {e_few} -> {e}");
-        assert!(e < bound, "{method} cone {cone:?}: relMSE {e} >= {bound}");
-        assert!(bias.abs() < 0.02, "{method} cone {cone:?}: mean differs by {bias}");
+        let label = format!("{method} cone {cone:?}");
+        let (gathered, camera) = (&ALL_QUANTITIES[3..], &ALL_QUANTITIES[..3]);
+        assert_converges_from(if coarse { 16 } else { 4 }, &label, &img, reference, camera);
+        assert_converges_from(16, &label, &img, reference, gathered);
     }
 }
 
 /// The glass plate (narrow top face): every method converges to pt for cones of 1, 10 and 30
-/// degrees. pt reference: 16384 spp (relMSE ~3e-3 against another seed).
+/// degrees. pt reference: 16384 spp.
 #[test]
 fn methods_converge_to_pt_on_the_glass_plate() {
     let path = shipped("glass-plate/glass-plate.toml");
-    let reference = pt_reference(&path, 40, 30, 16384);
+    let reference = render_file(&path, &pt_ov(40, 30, 16384, 101));
     check_methods(
         &path,
         &reference,
         40,
         30,
         &[
-            ("adaptive", None, 0.15),
-            ("quasi", Some(1.0), 0.1),
-            ("quasi", Some(10.0), 0.05),
-            ("quasi", Some(30.0), 0.05),
-            ("adaptive+quasi", Some(1.0), 0.1),
-            ("adaptive+quasi", Some(10.0), 0.05),
-            ("adaptive+quasi", Some(30.0), 0.05),
+            ("adaptive", None, false),
+            ("quasi", Some(1.0), false),
+            ("quasi", Some(10.0), false),
+            ("quasi", Some(30.0), false),
+            ("adaptive+quasi", Some(1.0), false),
+            ("adaptive+quasi", Some(10.0), false),
+            ("adaptive+quasi", Some(30.0), false),
         ],
     );
 }
@@ -88,21 +71,21 @@ fn methods_converge_to_pt_on_the_glass_plate() {
 #[test]
 fn methods_converge_to_pt_on_a_narrow_glossy_scene() {
     let scene = write_scene(&narrow_glossy(), &[]);
-    let reference = pt_reference(&scene.path, 40, 30, 8192);
+    let reference = render_file(&scene.path, &pt_ov(40, 30, 8192, 101));
     check_methods(
         &scene.path,
         &reference,
         40,
         30,
         &[
-            ("vismap", None, 0.5),
-            ("adaptive", None, 0.1),
-            ("quasi", Some(1.0), 0.1),
-            ("quasi", Some(10.0), 0.1),
-            ("quasi", Some(30.0), 0.1),
-            ("adaptive+quasi", Some(1.0), 0.1),
-            ("adaptive+quasi", Some(10.0), 0.1),
-            ("adaptive+quasi", Some(30.0), 0.1),
+            ("vismap", None, true),
+            ("adaptive", None, false),
+            ("quasi", Some(1.0), false),
+            ("quasi", Some(10.0), false),
+            ("quasi", Some(30.0), false),
+            ("adaptive+quasi", Some(1.0), false),
+            ("adaptive+quasi", Some(10.0), false),
+            ("adaptive+quasi", Some(30.0), false),
         ],
     );
 }

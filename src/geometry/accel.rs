@@ -22,9 +22,27 @@ pub struct Hit {
     pub b2: f32,
 }
 
+/// The power of two that maps a scene whose largest |coordinate| is `extent` to about 2^14
+/// units (1 for an empty or degenerate extent).
+fn traversal_scale(extent: f32) -> f32 {
+    if !(extent > 0.0 && extent.is_finite()) {
+        return 1.0;
+    }
+    let e = (14 - extent.log2().round() as i32).clamp(-100, 100);
+    2f32.powi(e)
+}
+
 /// The scene's triangles and their BVH.
+///
+/// The BVH is built and traversed in a uniformly scaled copy of the scene whose bounding box
+/// spans about 2^14 units: obvhs skips every node a ray leaves before t = 1e-4 (a fixed
+/// epsilon of its traversal, in scene units), which in metres would hide every surface within
+/// 0.1 mm of a ray's origin (a 0.1 mm scene would be half invisible to its own shadow rays).
+/// The scale is a power of two, so scaling and unscaling distances is exact.
 pub struct Accel {
     bvh: Option<CwBvh>,
+    /// World -> traversal space scale (a power of two).
+    to_bvh: f32,
     /// Intersection data, BVH order.
     pub geom: Vec<TriangleGeom>,
     /// Shading data, BVH order.
@@ -37,10 +55,14 @@ impl Accel {
     pub fn build(tris: &[[Vec3; 3]], info: &[TriangleInfo], params: BvhBuildParams) -> Self {
         assert_eq!(tris.len(), info.len());
         if tris.is_empty() {
-            return Self { bvh: None, geom: Vec::new(), info: Vec::new() };
+            return Self { bvh: None, to_bvh: 1.0, geom: Vec::new(), info: Vec::new() };
         }
-        let obv: Vec<Triangle> =
-            tris.iter().map(|t| Triangle { v0: t[0].into(), v1: t[1].into(), v2: t[2].into() }).collect();
+        let extent = tris.iter().flatten().fold(0.0f32, |m, p| m.max(p.abs().max_element()));
+        let to_bvh = traversal_scale(extent);
+        let obv: Vec<Triangle> = tris
+            .iter()
+            .map(|t| Triangle { v0: (t[0] * to_bvh).into(), v1: (t[1] * to_bvh).into(), v2: (t[2] * to_bvh).into() })
+            .collect();
         let bvh = build_cwbvh_from_tris(&obv, params, &mut Duration::default());
         let geom = bvh
             .primitive_indices
@@ -51,7 +73,7 @@ impl Accel {
             })
             .collect();
         let info = bvh.primitive_indices.iter().map(|&i| info[i as usize]).collect();
-        Self { bvh: Some(bvh), geom, info }
+        Self { bvh: Some(bvh), to_bvh, geom, info }
     }
 
     /// Default build quality for renders: PLOC with reinsertion and pre-splits.
@@ -68,13 +90,15 @@ impl Accel {
         // by the component, and 1 / -0.0 = -inf then skips boxes (an exactly axis-parallel ray
         // such as (-0, -1, -0) missed a flat floor)
         let d = Vec3A::from(ray.dir) + Vec3A::ZERO;
-        let oray = obvhs::ray::Ray::new(o, d, 0.0, ray.t_max);
+        let (s, inv) = (self.to_bvh, 1.0 / self.to_bvh);
+        let oray = obvhs::ray::Ray::new(o * s, d, 0.0, ray.t_max * s);
         let mut rh = RayHit::none();
         let mut best: Option<Hit> = None;
-        bvh.ray_traverse(oray, &mut rh, |r, id| match self.geom[id].intersect(o, d, 0.0, r.tmax) {
+        // triangles are intersected in world space; the traversal sees distances times s
+        bvh.ray_traverse(oray, &mut rh, |r, id| match self.geom[id].intersect(o, d, 0.0, r.tmax * inv) {
             Some((t, b1, b2)) => {
                 best = Some(Hit { prim: id as u32, t, b1, b2 });
-                t
+                t * s
             }
             None => f32::INFINITY,
         });
@@ -87,11 +111,17 @@ impl Accel {
         let Some(bvh) = self.bvh.as_ref() else { return false };
         let o = Vec3A::from(ray.origin);
         let d = Vec3A::from(ray.dir) + Vec3A::ZERO; // no -0.0 (see `intersect`)
-        let oray = obvhs::ray::Ray::new(o, d, 0.0, ray.t_max);
-        !bvh.ray_traverse_miss(oray, |r, id| match self.geom[id].intersect(o, d, 0.0, r.tmax) {
-            Some((t, _, _)) => t,
+        let (s, inv) = (self.to_bvh, 1.0 / self.to_bvh);
+        let oray = obvhs::ray::Ray::new(o * s, d, 0.0, ray.t_max * s);
+        !bvh.ray_traverse_miss(oray, |r, id| match self.geom[id].intersect(o, d, 0.0, r.tmax * inv) {
+            Some((t, _, _)) => t * s,
             None => f32::INFINITY,
         })
+    }
+
+    /// The world -> traversal scale.
+    pub fn traversal_scale(&self) -> f32 {
+        self.to_bvh
     }
 
     /// Bytes used by the BVH nodes, index list and triangle data.

@@ -86,7 +86,8 @@ mod tests {
     use quasar_materials::Bsdf;
     use quasar_materials::spectrum::SampledSpectrum;
 
-    fn floor_with_box() -> Scene {
+    /// A 2 x 2 floor and a small panel 0.5 above it, lengths times `scale`.
+    fn floor_with_panel(scale: f32) -> Scene {
         let text = r#"
 [materials.white]
 type = "diffuse"
@@ -104,7 +105,8 @@ size = [0.2, 0.2]
 normal = [0, -1, 0]
 material = "white"
 "#;
-        let desc = parse_toml_scene(text, std::path::Path::new("t.toml"), &ImportOptions::default()).unwrap();
+        let opts = ImportOptions { units_scale: Some(scale), ..ImportOptions::default() };
+        let desc = parse_toml_scene(text, std::path::Path::new("t.toml"), &opts).unwrap();
         Scene::compile(&desc).unwrap()
     }
 
@@ -126,8 +128,14 @@ material = "white"
 
     #[test]
     fn coverage_of_interior_edge_and_corner_disks() {
-        let scene = floor_with_box();
-        let c = |p: Vec3, r: f32| disk_coverage(&scene, &point(p), r, r / 2.0, 0.3);
+        for scale in [1.0, 1e-4, 1e5] {
+            coverage_at_scale(scale);
+        }
+    }
+
+    fn coverage_at_scale(k: f32) {
+        let scene = floor_with_panel(k);
+        let c = |p: Vec3, r: f32| disk_coverage(&scene, &point(p * k), r * k, r * k / 2.0, 0.3);
         assert_eq!(c(Vec3::new(-0.5, 0.0, -0.5), 0.1), (1.0, 1.0));
         // on the edge x = 1: half the disk is off the floor
         let (ci, cc) = c(Vec3::new(1.0, 0.0, -0.5), 0.1);
