@@ -46,6 +46,8 @@ pub struct JobOverrides {
     pub checkpoint: Option<PathBuf>,
     /// Continue the render stored in this checkpoint.
     pub resume: Option<PathBuf>,
+    /// Microfacet masking-shadowing form (default: the scene's, height-correlated).
+    pub masking: Option<quasar_materials::Masking>,
 }
 
 /// A finished render with everything needed to write it.
@@ -101,7 +103,8 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     let max_depth = ov.max_depth.or(r.max_depth);
     let method = Method::from_name(ov.method.as_deref().unwrap_or(&r.method))?;
 
-    let scene = Scene::compile(desc).context("compiling the scene")?;
+    let mut scene = Scene::compile(desc).context("compiling the scene")?;
+    scene.masking = ov.masking.unwrap_or(r.masking);
     let camera = Camera::new(&desc.camera, width, height).with_context(|| desc.source.display().to_string())?;
     let resolved = method.resolve(&scene);
     let bidir = if resolved.is_bidirectional() {
@@ -126,7 +129,7 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         crate::checkpoint::Fingerprint::of(&[
             desc,
             &resolved.name(),
-            &(width, height, seed, max_depth, shard),
+            &(width, height, seed, max_depth, shard, scene.masking),
             &bidir_fp,
         ])
     } else {
@@ -201,6 +204,7 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         ("spp".into(), result.spp.to_string()),
         ("seed".into(), seed.to_string()),
         ("max_depth".into(), max_depth.map_or("unbounded".into(), |d| d.to_string())),
+        ("masking".into(), scene.masking.name().to_string()),
         ("width".into(), width.to_string()),
         ("height".into(), height.to_string()),
         ("wavelengths".into(), "hero, 4 per path, 360-830 nm, visible-importance pdf".into()),

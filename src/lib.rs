@@ -22,6 +22,7 @@ pub mod light;
 pub mod material_library;
 pub mod merge;
 pub mod method;
+pub mod mitsuba_export;
 pub mod output;
 pub mod plot;
 pub mod render;

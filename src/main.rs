@@ -97,6 +97,10 @@ enum Command {
         /// --spp / --iterations or a new --time extends it).
         #[arg(long)]
         resume: Option<PathBuf>,
+        /// Microfacet masking-shadowing of the GGX materials: height-correlated (default) or
+        /// separable (Mitsuba 3's and pbrt-v3's form, for comparisons with them).
+        #[arg(long, value_parser = parse_masking)]
+        masking: Option<quasar_materials::Masking>,
         /// Exposure of the PNG preview in stops (the preview is scaled by 2^EV before clipping).
         #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
         exposure: f32,
@@ -150,6 +154,24 @@ enum Command {
         /// Write a polar plot of the lobes (PNG).
         #[arg(long)]
         plot: Option<PathBuf>,
+    },
+    /// Write a scene as a Mitsuba 3 scene (scene.xml and OBJ meshes in DIR) with quasar's
+    /// conventions, for the independent cross-check (tests/crosscheck/, docs/validation.md).
+    ExportMitsuba {
+        /// Scene file.
+        scene: PathBuf,
+        /// Output folder.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Image width (default: the scene's).
+        #[arg(long)]
+        width: Option<u32>,
+        /// Image height (default: the scene's).
+        #[arg(long)]
+        height: Option<u32>,
+        /// Samples per pixel written into the scene (default: the scene's spp).
+        #[arg(long)]
+        spp: Option<u32>,
     },
     /// Print what a scene contains and which method `auto` would use.
     Info {
@@ -374,6 +396,12 @@ fn parse_units(s: &str) -> Result<f32, String> {
     }
 }
 
+/// Parses `--masking`.
+fn parse_masking(s: &str) -> Result<quasar_materials::Masking, String> {
+    quasar_materials::Masking::from_name(s)
+        .ok_or_else(|| format!("expected one of {}, got {s:?}", quasar_materials::Masking::NAMES.join(", ")))
+}
+
 /// Parses `K/N` for `--shard`.
 fn parse_shard(s: &str) -> Result<(u32, u32), String> {
     let (k, n) = s.split_once('/').ok_or("expected K/N, e.g. 0/4")?;
@@ -421,6 +449,7 @@ fn run() -> anyhow::Result<()> {
             shard,
             checkpoint,
             resume,
+            masking,
             preview,
             exposure,
             quiet,
@@ -450,6 +479,7 @@ fn run() -> anyhow::Result<()> {
                 shard,
                 checkpoint,
                 resume,
+                masking,
             };
             let out = render_desc(&desc, &ov, !quiet)?;
             let exr = output.unwrap_or_else(|| {
@@ -521,6 +551,19 @@ fn run() -> anyhow::Result<()> {
         }
         Command::Bench { what } => bench(what),
         Command::Bsdf { action, file, plot } => bsdf(action, file, plot),
+        Command::ExportMitsuba { scene, output, width, height, spp } => {
+            let desc = load_scene(&scene)?;
+            let r = &desc.render;
+            quasar::mitsuba_export::write(
+                &desc,
+                &output,
+                width.unwrap_or(r.width),
+                height.unwrap_or(r.height),
+                spp.unwrap_or(r.spp),
+            )
+            .map_err(|e| anyhow::anyhow!("{}: cannot be written for Mitsuba: {e}", scene.display()))?;
+            Ok(())
+        }
         Command::Info { scene, allow_external_paths, units } => {
             let desc = load_scene_with(&scene, &ImportOptions { allow_external_paths, units_scale: units })?;
             let compiled = Scene::compile(&desc)?;

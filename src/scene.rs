@@ -157,6 +157,8 @@ pub struct Scene {
     pub center: Vec3,
     /// Radius of the bounding sphere.
     pub radius: f32,
+    /// Microfacet masking-shadowing form of the GGX materials.
+    pub masking: quasar_materials::Masking,
     /// Number of triangles that were dropped because a vertex was not finite or beyond
     /// [`MAX_COORDINATE`], the area is 0, or the triangle repeats another.
     pub dropped_triangles: usize,
@@ -315,6 +317,7 @@ impl Scene {
             material_textures: desc.materials.iter().map(|m| m.textures.clone()).collect(),
             center,
             radius,
+            masking: desc.render.masking,
             dropped_triangles: dropped,
         })
     }
@@ -377,8 +380,8 @@ impl Scene {
     #[inline]
     pub fn bsdf_at(&self, si: &SurfaceInteraction, wl: &mut SampledWavelengths) -> Bsdf<'_> {
         match self.material_at(si) {
-            Cow::Borrowed(m) => m.bsdf(wl),
-            Cow::Owned(m) => m.bsdf(wl).detached().unwrap_or(Bsdf::Black),
+            Cow::Borrowed(m) => m.bsdf_with(wl, self.masking),
+            Cow::Owned(m) => m.bsdf_with(wl, self.masking).detached().unwrap_or(Bsdf::Black),
         }
     }
 

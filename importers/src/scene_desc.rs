@@ -195,6 +195,8 @@ pub struct RenderSettings {
     pub target_error: Option<f64>,
     /// Settings of the bidirectional methods (used only when one of them runs).
     pub bidirectional: BidirectionalSettings,
+    /// Microfacet masking-shadowing form of every GGX material (`masking`).
+    pub masking: quasar_materials::Masking,
 }
 
 /// `[render]` settings of the bidirectional methods (None: the method's default).
@@ -228,6 +230,7 @@ impl Default for RenderSettings {
             method: "auto".into(),
             target_error: None,
             bidirectional: BidirectionalSettings::default(),
+            masking: quasar_materials::Masking::HeightCorrelated,
         }
     }
 }

@@ -12,6 +12,7 @@ pub mod spectrum;
 pub mod tabulated;
 pub mod warp;
 
+pub use bsdf::microfacet::Masking;
 pub use bsdf::{Bsdf, BsdfSample, Lobe, TransportMode};
 pub use frame::Frame;
 pub use material::{ConductorFresnel, Ior, Material};

@@ -1,5 +1,6 @@
 //! Materials: plain data (spectral parameters) that produce a [`Bsdf`] at a path's wavelengths.
 
+use crate::bsdf::microfacet::Masking;
 use crate::bsdf::{Bsdf, ConductorBsdf, DielectricBsdf, DiffuseBsdf, SampledFresnel, TrowbridgeReitz};
 use std::sync::Arc;
 
@@ -115,6 +116,11 @@ impl Material {
     /// the wavelength). Out-of-range parameters (see [`validate`](Self::validate)) are sanitised
     /// rather than propagated: reflectances clamped to [0, 1], bad alpha -> 0, bad IOR -> 1.
     pub fn bsdf(&self, wl: &mut SampledWavelengths) -> Bsdf<'_> {
+        self.bsdf_with(wl, Masking::HeightCorrelated)
+    }
+
+    /// [`bsdf`](Self::bsdf) with the microfacet masking-shadowing form `masking`.
+    pub fn bsdf_with(&self, wl: &mut SampledWavelengths, masking: Masking) -> Bsdf<'_> {
         match self {
             Material::Diffuse { reflectance, two_sided } => {
                 Bsdf::Diffuse(DiffuseBsdf::new(reflectance.sample(wl), *two_sided))
@@ -126,7 +132,11 @@ impl Material {
                         SampledFresnel::Complex { eta: eta.sample(wl), k: k.sample(wl) }
                     }
                 };
-                Bsdf::Conductor(ConductorBsdf::new(TrowbridgeReitz::new(*alpha), fresnel, *two_sided))
+                Bsdf::Conductor(ConductorBsdf::new(
+                    TrowbridgeReitz::new(*alpha).with_masking(masking),
+                    fresnel,
+                    *two_sided,
+                ))
             }
             Material::Dielectric { ior, alpha } => {
                 let eta = ior.at(wl.lambda(0));
@@ -134,7 +144,7 @@ impl Material {
                     wl.terminate_secondary();
                 }
                 let eta = if eta.is_finite() && eta > MIN_IOR { eta } else { 1.0 };
-                Bsdf::Dielectric(DielectricBsdf::new(eta, TrowbridgeReitz::new(*alpha)))
+                Bsdf::Dielectric(DielectricBsdf::new(eta, TrowbridgeReitz::new(*alpha).with_masking(masking)))
             }
             Material::Tabulated(t) => Bsdf::Tabulated(TabulatedBsdf::new(t, wl)),
         }

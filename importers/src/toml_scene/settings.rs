@@ -28,6 +28,7 @@ pub(super) fn render(t: Option<Tbl<'_>>, unit: f32) -> Result<RenderSettings, Im
         "cone_deg",
         "radius",
         "alpha",
+        "masking",
     ])?;
     let b = &mut r.bidirectional;
     b.iterations = t.opt_int("iterations", 1, u32::MAX as i128)?;
@@ -63,6 +64,9 @@ pub(super) fn render(t: Option<Tbl<'_>>, unit: f32) -> Result<RenderSettings, Im
     r.max_depth = t.opt_int("max_depth", 0, 1_000_000)?;
     if let Some((m, _)) = t.choice("method", &RENDER_METHODS)? {
         r.method = m.to_owned();
+    }
+    if let Some((m, _)) = t.choice("masking", &quasar_materials::Masking::NAMES)? {
+        r.masking = quasar_materials::Masking::from_name(m).unwrap_or_default();
     }
     Ok(r)
 }

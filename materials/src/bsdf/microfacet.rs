@@ -15,17 +15,58 @@ use glam::{Vec2, Vec3};
 /// `TrowbridgeReitzDistribution::EffectivelySmooth` (alpha < 1e-3).
 pub const SMOOTH_ALPHA: f32 = 1e-3;
 
+/// Smith's masking-shadowing function G(wo, wi) of a microfacet BSDF.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Masking {
+    /// G = 1 / (1 + Lambda(wo) + Lambda(wi)) (Heitz 2014): the statistically consistent form,
+    /// pbrt-v4's and quasar's default.
+    #[default]
+    HeightCorrelated,
+    /// G = G1(wo) G1(wi): masking and shadowing treated as independent, the form of Mitsuba 3's
+    /// `roughconductor`/`roughdielectric` and pbrt-v3 (slightly darker where both directions
+    /// are near grazing); for comparisons with them.
+    Separable,
+}
+
+impl Masking {
+    /// Names as in scene files and on the command line.
+    pub const NAMES: [&str; 2] = ["height-correlated", "separable"];
+
+    /// Looks a masking form up by name.
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "height-correlated" => Some(Self::HeightCorrelated),
+            "separable" => Some(Self::Separable),
+            _ => None,
+        }
+    }
+
+    /// The name of this form.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::HeightCorrelated => Self::NAMES[0],
+            Self::Separable => Self::NAMES[1],
+        }
+    }
+}
+
 /// Isotropic Trowbridge–Reitz (GGX) distribution of microfacet normals with width `alpha`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TrowbridgeReitz {
     alpha: f32,
+    masking: Masking,
 }
 
 impl TrowbridgeReitz {
     /// A distribution with roughness `alpha` (used directly, no remapping); a negative or
     /// non-finite alpha is treated as 0 (smooth).
     pub fn new(alpha: f32) -> Self {
-        Self { alpha: if alpha.is_finite() && alpha > 0.0 { alpha } else { 0.0 } }
+        Self { alpha: if alpha.is_finite() && alpha > 0.0 { alpha } else { 0.0 }, masking: Masking::HeightCorrelated }
+    }
+
+    /// This distribution with the masking-shadowing form `masking`.
+    pub fn with_masking(self, masking: Masking) -> Self {
+        Self { masking, ..self }
     }
 
     /// The roughness alpha.
@@ -78,18 +119,23 @@ impl TrowbridgeReitz {
         if d > 0.0 { 2.0 * c / d } else { 0.0 }
     }
 
-    /// Height-correlated masking-shadowing G(wo, wi) = 1 / (1 + Lambda(wo) + Lambda(wi))
-    /// = 2 |cos o| |cos i| / (a(wo) |cos i| + a(wi) |cos o|).
+    /// Masking-shadowing G(wo, wi): height-correlated 1 / (1 + Lambda(wo) + Lambda(wi))
+    /// = 2 |cos o| |cos i| / (a(wo) |cos i| + a(wi) |cos o|), or separable G1(wo) G1(wi).
     pub fn g(&self, wo: Vec3, wi: Vec3) -> f32 {
         self.g_over_cos(wo, wi) * wo.z.abs() * wi.z.abs()
     }
 
-    /// G(wo, wi) / (|cos o| |cos i|) = 2 / (a(wo) |cos i| + a(wi) |cos o|): the factor every
-    /// microfacet BSDF needs, finite at grazing angles (0 when both cosines vanish).
+    /// G(wo, wi) / (|cos o| |cos i|): height-correlated 2 / (a(wo) |cos i| + a(wi) |cos o|),
+    /// separable 4 / ((|cos o| + a(wo)) (|cos i| + a(wi))). The factor every microfacet BSDF
+    /// needs, finite at grazing angles (0 when both cosines vanish).
     #[inline]
     pub fn g_over_cos(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let d = self.a(wo) * wi.z.abs() + self.a(wi) * wo.z.abs();
-        if d > 0.0 && d.is_finite() { 2.0 / d } else { 0.0 }
+        let (co, ci) = (wo.z.abs(), wi.z.abs());
+        let (n, d) = match self.masking {
+            Masking::HeightCorrelated => (2.0, self.a(wo) * ci + self.a(wi) * co),
+            Masking::Separable => (4.0, (co + self.a(wo)) * (ci + self.a(wi))),
+        };
+        if d > 0.0 && d.is_finite() { n / d } else { 0.0 }
     }
 
     /// Density of visible normals seen from `w` (Heitz 2014, Heitz 2018):
@@ -190,6 +236,13 @@ mod tests {
         }
         assert_eq!(m.g1(Vec3::X), 0.0);
         assert_eq!(m.g_over_cos(Vec3::X, Vec3::Y), 0.0);
+        // separable = G1 G1 <= height-correlated (equal at normal incidence)
+        let s = m.with_masking(Masking::Separable);
+        for (a, b) in [(0.9f32, 0.7f32), (0.3, 0.1), (1.0, 1.0)] {
+            let (wo, wi) = (Vec3::new((1.0 - a * a).sqrt(), 0.0, a), Vec3::new(0.0, (1.0 - b * b).sqrt(), b));
+            assert!((s.g(wo, wi) - m.g1(wo) * m.g1(wi)).abs() < 1e-5);
+            assert!(s.g(wo, wi) <= m.g(wo, wi) + 1e-6);
+        }
     }
 
     #[test]
