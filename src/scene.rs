@@ -4,7 +4,7 @@
 use std::borrow::Cow;
 
 use glam::{Vec2, Vec3};
-use quasar_importers::{LightDesc, MaterialTextures, SceneDesc, TextureDesc, pbr_material};
+use quasar_importers::{LightDesc, MaterialTextures, SceneDesc, TextureDesc, pbr_material_at};
 use quasar_materials::spectrum::SampledWavelengths;
 use quasar_materials::{Bsdf, Frame, Material, NonUniformity};
 use rayon::prelude::*;
@@ -367,7 +367,7 @@ impl Scene {
         let m = si.material as usize;
         match self.material_textures.get(m) {
             Some(t) if !t.is_empty() => match t.params_at(&self.textures, si.uv) {
-                Some(p) => Cow::Owned(pbr_material(&p)),
+                Some(p) => Cow::Owned(pbr_material_at(&p)),
                 None => Cow::Borrowed(&self.materials[m]),
             },
             _ => Cow::Borrowed(&self.materials[m]),

@@ -25,7 +25,7 @@ pub use glob::glob_match;
 pub use gltf::{GltfImporter, import_gltf};
 pub use obj::{ObjImporter, ObjMaterials, import_obj};
 pub use obj_lint::{MAX_OBJ_BYTES, MAX_OBJ_TRIANGLES, MAX_SMALL_FILE_BYTES};
-pub use pbr::{PbrParams, pbr_material};
+pub use pbr::{PbrParams, pbr_material, pbr_material_at};
 pub use registry::{IMPORTERS, ImportOptions, Importer, import_scene, importer_for, supported_extensions};
 pub use scene_desc::*;
 pub use toml_scene::{TomlSceneImporter, import_toml_scene, parse_toml_scene};

@@ -45,8 +45,19 @@ fn unit(x: f32) -> f32 {
     if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) }
 }
 
-/// The analytic material for glTF parameters (see the module documentation).
+/// The analytic material for glTF parameters (see the module documentation), the base colour
+/// uplift fitted for the colour: for materials of constant factors.
 pub fn pbr_material(p: &PbrParams) -> Material {
+    pbr_material_with(p, |rgb| Spectrum::rgb_reflectance(rgb).unwrap_or(Spectrum::Constant(0.0)))
+}
+
+/// [`pbr_material`] for parameters that change per shading point (texels): the base colour
+/// uplift is interpolated in a table (fast, within 7e-3 of the colour).
+pub fn pbr_material_at(p: &PbrParams) -> Material {
+    pbr_material_with(p, Spectrum::rgb_reflectance_interpolated)
+}
+
+fn pbr_material_with(p: &PbrParams, uplift: impl Fn([f32; 3]) -> Spectrum) -> Material {
     let roughness = unit(p.roughness);
     let alpha = roughness * roughness;
     let metallic = unit(p.metallic);
@@ -54,7 +65,7 @@ pub fn pbr_material(p: &PbrParams) -> Material {
         let ior = if p.ior.is_finite() && p.ior >= 1.0 { p.ior } else { 1.5 };
         return Material::Dielectric { ior: Ior::Constant(ior), alpha };
     }
-    let base = Spectrum::RgbReflectance(p.base_color.map(unit));
+    let base = uplift(p.base_color.map(unit));
     if metallic >= PBR_LOBE_THRESHOLD {
         Material::Conductor { alpha, fresnel: ConductorFresnel::Constant(base), two_sided: true }
     } else {
@@ -71,7 +82,7 @@ mod tests {
         let p = PbrParams { base_color: [0.2, 0.4, 0.6], metallic: 0.0, roughness: 0.5, ..Default::default() };
         assert_eq!(
             pbr_material(&p),
-            Material::Diffuse { reflectance: Spectrum::RgbReflectance([0.2, 0.4, 0.6]), two_sided: true }
+            Material::Diffuse { reflectance: Spectrum::rgb_reflectance([0.2, 0.4, 0.6]).unwrap(), two_sided: true }
         );
         let m = pbr_material(&PbrParams { metallic: 0.6, ..p });
         assert!(matches!(m, Material::Conductor { alpha, .. } if (alpha - 0.25).abs() < 1e-6));
@@ -84,7 +95,10 @@ mod tests {
         ));
         // out-of-range input is clamped, never invalid
         let w = pbr_material(&PbrParams { base_color: [2.0, f32::NAN, -1.0], roughness: 7.0, metallic: 0.0, ..p });
-        assert_eq!(w, Material::Diffuse { reflectance: Spectrum::RgbReflectance([1.0, 0.0, 0.0]), two_sided: true });
+        assert_eq!(
+            w,
+            Material::Diffuse { reflectance: Spectrum::rgb_reflectance([1.0, 0.0, 0.0]).unwrap(), two_sided: true }
+        );
         assert!(w.validate().is_ok());
     }
 }

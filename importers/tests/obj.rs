@@ -124,13 +124,13 @@ fn mtl_mapping() {
     let mat = |n: &str| &s.materials.iter().find(|m| m.name == n).unwrap().material;
     assert_eq!(
         mat("paint"),
-        &Material::Diffuse { reflectance: Spectrum::RgbReflectance([0.6, 0.5, 0.4]), two_sided: true },
+        &Material::Diffuse { reflectance: Spectrum::rgb_reflectance([0.6, 0.5, 0.4]).unwrap(), two_sided: true },
         "Kd + Ks blend keeps the dominant diffuse lobe"
     );
     match mat("chrome") {
         Material::Conductor { alpha, fresnel: ConductorFresnel::Constant(r), two_sided: true } => {
             assert!((alpha - (2.0f32 / 100.0).sqrt()).abs() < 1e-6, "alpha = sqrt(2/(Ns+2))");
-            assert_eq!(r, &Spectrum::RgbReflectance([0.9, 0.9, 0.9]));
+            assert_eq!(r, &Spectrum::rgb_reflectance([0.9, 0.9, 0.9]).unwrap());
         }
         m => panic!("{m:?}"),
     }
@@ -141,7 +141,10 @@ fn mtl_mapping() {
     assert_eq!(mat("glass"), &Material::Dielectric { ior: Ior::Constant(1.52), alpha: 0.0 });
     assert_eq!(mat("glass2"), &Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.0 });
     assert!(matches!(mat("tr_glass"), Material::Dielectric { .. }));
-    assert_eq!(mat("empty"), &Material::Diffuse { reflectance: Spectrum::RgbReflectance([0.8; 3]), two_sided: true });
+    assert_eq!(
+        mat("empty"),
+        &Material::Diffuse { reflectance: Spectrum::rgb_reflectance([0.8; 3]).unwrap(), two_sided: true }
+    );
     let lamp = s.meshes.iter().find(|m| m.name == "scene.obj:lamp_obj:lamp").unwrap();
     let e = lamp.emission.as_ref().unwrap();
     assert_eq!((e.scale, e.two_sided), (1.0, false));
@@ -259,6 +262,6 @@ fn byte_order_marks_are_skipped() {
     assert_eq!(s.meshes[0].positions.len(), 3);
     assert_eq!(
         s.materials[0].material,
-        Material::Diffuse { reflectance: Spectrum::RgbReflectance([1.0, 0.0, 0.0]), two_sided: true }
+        Material::Diffuse { reflectance: Spectrum::rgb_reflectance([1.0, 0.0, 0.0]).unwrap(), two_sided: true }
     );
 }

@@ -174,7 +174,7 @@ spectrum = {{ rgb = [2, 1, 0.5] }}
         refl("table"),
         Spectrum::PiecewiseLinear { lambda: vec![400.0, 500.0, 700.0], values: vec![0.1, 0.2, 0.3] }
     );
-    assert_eq!(refl("rgb"), Spectrum::RgbReflectance([0.8, 0.2, 0.1]));
+    assert_eq!(refl("rgb"), Spectrum::rgb_reflectance([0.8, 0.2, 0.1]).unwrap());
     assert_eq!(
         refl("csv"),
         Spectrum::PiecewiseLinear { lambda: vec![400.0, 500.0, 600.0], values: vec![0.1, 0.5, 0.9] }
@@ -241,7 +241,7 @@ ior = {{ sellmeier = {{ b = [1.03961212, 0.231792344, 1.01046945], c = [0.006000
         material(&s, "mirror"),
         &Material::Conductor {
             alpha: 0.0,
-            fresnel: ConductorFresnel::Constant(Spectrum::RgbReflectance([0.9, 0.8, 0.5])),
+            fresnel: ConductorFresnel::Constant(Spectrum::rgb_reflectance([0.9, 0.8, 0.5]).unwrap()),
             two_sided: true
         }
     );

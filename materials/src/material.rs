@@ -396,7 +396,7 @@ mod tests {
             assert!(e.contains(needle), "{e}");
         }
         for m in [
-            Material::Diffuse { reflectance: Spectrum::RgbReflectance([1.0, 0.5, 0.0]), two_sided: true },
+            Material::Diffuse { reflectance: Spectrum::rgb_reflectance([1.0, 0.5, 0.0]).unwrap(), two_sided: true },
             Material::Dielectric { ior: Ior::Constant(1.0001), alpha: 1e-4 },
             Material::Dielectric { ior: Ior::Constant(4.0), alpha: 1.0 },
             Material::Dielectric { ior: Ior::named("BK7").unwrap(), alpha: 0.3 },

@@ -1,7 +1,7 @@
 //! Spectral curves: the closed set of ways a scene can specify a spectrum.
 
 use super::cie;
-use super::color::rgb_uplift;
+use super::rgb_uplift::{RgbToSpectrumTable, SigmoidPolynomial, fit_or_nearest};
 use super::sampled::{LAMBDA_MAX, LAMBDA_MIN, N_SPECTRUM_SAMPLES, SampledSpectrum, SampledWavelengths};
 
 /// A CIE standard illuminant available by name.
@@ -63,17 +63,30 @@ pub enum Spectrum {
         /// Normalisation factor computed at construction.
         norm: f32,
     },
-    /// A reflectance given as linear sRGB in [0,1], uplifted to a smooth spectrum bounded by
-    /// min(rgb)..max(rgb) (see [`rgb_uplift`]).
-    RgbReflectance([f32; 3]),
-    /// A light colour given as linear sRGB (any non-negative values): the bounded uplift of
-    /// rgb / max(rgb), times max(rgb), times D65 normalised to luminance 1, so that (1,1,1) is D65 white.
+    /// A reflectance given as linear sRGB in [0,1], uplifted to the smooth spectrum in (0, 1) of
+    /// Jakob & Hanika 2019 whose colour under D65 is that RGB (see
+    /// [`rgb_uplift`](super::rgb_uplift)).
+    RgbReflectance(RgbSpectrum),
+    /// A light colour given as linear sRGB (any non-negative values): the uplift of
+    /// rgb / max(rgb), times max(rgb), times D65 normalised to luminance 1, so that (1,1,1) is D65
+    /// white and the light's colour is the RGB.
     RgbIlluminant {
         /// The colour, non-negative linear sRGB.
         rgb: [f32; 3],
+        /// The uplift of rgb / max(rgb).
+        model: SigmoidPolynomial,
         /// Normalisation of D65 to luminance 1.
         norm: f32,
     },
+}
+
+/// An RGB colour and the reflectance spectrum it was uplifted to.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RgbSpectrum {
+    /// The colour, linear sRGB in [0, 1].
+    pub rgb: [f32; 3],
+    /// Its uplift.
+    pub model: SigmoidPolynomial,
 }
 
 /// Error building a spectrum from invalid data.
@@ -185,12 +198,20 @@ impl Spectrum {
         Self::Illuminant { illuminant, norm: 1.0 / y }
     }
 
-    /// A reflectance from linear sRGB; components must be finite and in [0, 1].
+    /// A reflectance from linear sRGB; components must be finite and in [0, 1]. The uplift is
+    /// fitted for this colour (its colour under D65 round-trips to within 3e-5).
     pub fn rgb_reflectance(rgb: [f32; 3]) -> Result<Self, SpectrumError> {
         if rgb.iter().any(|c| !c.is_finite() || *c < 0.0 || *c > 1.0) {
             return Err(SpectrumError::Parameter(format!("reflectance rgb components must be in [0, 1], got {rgb:?}")));
         }
-        Ok(Self::RgbReflectance(rgb))
+        Ok(Self::RgbReflectance(RgbSpectrum { rgb, model: fit_or_nearest(rgb) }))
+    }
+
+    /// A reflectance from a linear sRGB colour that changes per shading point (a texel), with
+    /// the uplift interpolated in [`RgbToSpectrumTable`] (components clamped to [0, 1]; NaN is 0).
+    pub fn rgb_reflectance_interpolated(rgb: [f32; 3]) -> Self {
+        let rgb = rgb.map(|v| if v.is_nan() { 0.0 } else { v.clamp(0.0, 1.0) });
+        Self::RgbReflectance(RgbSpectrum { rgb, model: RgbToSpectrumTable::get().lookup(rgb) })
     }
 
     /// A light colour from linear sRGB; components must be finite and >= 0.
@@ -199,7 +220,9 @@ impl Spectrum {
             return Err(SpectrumError::Parameter(format!("light rgb components must be finite and >= 0, got {rgb:?}")));
         }
         let y = luminance_of(cie::d65);
-        Ok(Self::RgbIlluminant { rgb, norm: 1.0 / y })
+        let m = rgb[0].max(rgb[1]).max(rgb[2]);
+        let model = fit_or_nearest(if m > 0.0 { rgb.map(|v| v / m) } else { [0.0; 3] });
+        Ok(Self::RgbIlluminant { rgb, model, norm: 1.0 / y })
     }
 
     /// Value at `lambda` nm.
@@ -221,14 +244,13 @@ impl Spectrum {
             }
             Self::Blackbody { kelvin, norm } => planck(lambda, *kelvin) * norm,
             Self::Illuminant { illuminant, norm } => illuminant.relative(lambda) * norm,
-            Self::RgbReflectance(rgb) => rgb_uplift(*rgb, lambda),
-            Self::RgbIlluminant { rgb, norm } => {
+            Self::RgbReflectance(s) => s.model.eval(lambda),
+            Self::RgbIlluminant { rgb, model, norm } => {
                 let m = rgb[0].max(rgb[1]).max(rgb[2]);
                 if m <= 0.0 {
                     return 0.0;
                 }
-                let c = rgb.map(|v| v / m);
-                m * rgb_uplift(c, lambda) * cie::d65(lambda) * norm
+                m * model.eval(lambda) * cie::d65(lambda) * norm
             }
         }
     }

@@ -6,7 +6,8 @@ pub mod cie;
 pub mod cie_data;
 pub mod color;
 pub mod curve;
+pub mod rgb_uplift;
 pub mod sampled;
 
-pub use curve::{Spectrum, SpectrumError, StandardIlluminant};
+pub use curve::{RgbSpectrum, Spectrum, SpectrumError, StandardIlluminant};
 pub use sampled::{LAMBDA_MAX, LAMBDA_MIN, N_SPECTRUM_SAMPLES, SampledSpectrum, SampledWavelengths};
