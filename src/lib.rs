@@ -12,6 +12,7 @@ pub mod camera;
 pub mod checkpoint;
 pub mod compare;
 pub mod convergence;
+pub mod env_map;
 pub mod film;
 pub mod geometry;
 pub mod import_bench;

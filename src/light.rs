@@ -7,6 +7,7 @@ use glam::{Vec2, Vec3};
 use quasar_materials::Frame;
 use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 
+use crate::env_map::EnvMap;
 use crate::geometry::TriangleGeom;
 use crate::sampling::{self, Distribution1D};
 
@@ -77,14 +78,16 @@ pub enum Light {
         /// Radius of the scene's bounding sphere (for power).
         scene_radius: f32,
     },
-    /// Constant radiance from every direction.
+    /// Radiance from every direction: constant (`spectrum`), or a lat-long `map`.
     Environment {
-        /// Radiance spectrum.
+        /// Radiance spectrum (constant environments).
         spectrum: Spectrum,
         /// Multiplier.
         scale: f32,
         /// Radius of the scene's bounding sphere (for power).
         scene_radius: f32,
+        /// A lat-long radiance map, importance-sampled.
+        map: Option<std::sync::Arc<EnvMap>>,
     },
 }
 
@@ -140,8 +143,9 @@ impl Light {
             Self::Directional { spectrum, scale, scene_radius, .. } => {
                 PI * scene_radius * scene_radius * scale * spectrum.mean_value()
             }
-            Self::Environment { spectrum, scale, scene_radius } => {
-                4.0 * PI * PI * scene_radius * scene_radius * scale * spectrum.mean_value()
+            Self::Environment { spectrum, scale, scene_radius, map } => {
+                let mean = map.as_ref().map_or_else(|| spectrum.mean_value(), |m| m.mean_luminance() as f32);
+                4.0 * PI * PI * scene_radius * scene_radius * scale * mean
             }
         };
         if p.is_finite() && p > 0.0 { p as f64 } else { 0.0 }
@@ -211,15 +215,15 @@ impl Light {
                 dist: f32::INFINITY,
                 delta: true,
             }),
-            Self::Environment { spectrum, scale, .. } => {
-                let wi = sampling::uniform_sphere(u);
-                Some(LightSample {
-                    li: spectrum.sample(wl) * *scale,
-                    wi,
-                    pdf: sampling::UNIFORM_SPHERE_PDF,
-                    dist: f32::INFINITY,
-                    delta: false,
-                })
+            Self::Environment { spectrum, scale, map, .. } => {
+                let (wi, li, pdf) = match map {
+                    Some(m) => {
+                        let (wi, pdf, li) = m.sample(u, wl)?;
+                        (wi, li, pdf)
+                    }
+                    None => (sampling::uniform_sphere(u), spectrum.sample(wl), sampling::UNIFORM_SPHERE_PDF),
+                };
+                Some(LightSample { li: li * *scale, wi, pdf, dist: f32::INFINITY, delta: false })
             }
         }
     }
@@ -238,16 +242,20 @@ impl Light {
 
     /// Radiance reaching a ray that escapes the scene in direction `w` (environment only;
     /// directional lights cannot be hit).
-    pub fn le_escaped(&self, wl: &SampledWavelengths) -> SampledSpectrum {
+    pub fn le_escaped(&self, w: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
         match self {
-            Self::Environment { spectrum, scale, .. } => spectrum.sample(wl) * *scale,
+            Self::Environment { spectrum, scale, map, .. } => {
+                map.as_ref().map_or_else(|| spectrum.sample(wl), |m| m.radiance(w, wl)) * *scale
+            }
             _ => SampledSpectrum::zero(),
         }
     }
 
-    /// Solid-angle density of sampling escape direction `w` (environment only).
-    pub fn pdf_li_escaped(&self) -> f32 {
+    /// Solid-angle density with which [`sample_li`](Self::sample_li) returns escape direction
+    /// `w` (environment only).
+    pub fn pdf_li_escaped(&self, w: Vec3) -> f32 {
         match self {
+            Self::Environment { map: Some(m), .. } => m.pdf(w),
             Self::Environment { .. } => sampling::UNIFORM_SPHERE_PDF,
             _ => 0.0,
         }
@@ -331,11 +339,19 @@ impl Light {
                 let flux = spectrum.sample(wl) * (*scale * PI * scene_radius * scene_radius);
                 EmittedPhoton { origin, dir: *direction, flux }
             }
-            Self::Environment { spectrum, scale, scene_radius } => {
-                let dir = sampling::uniform_sphere(u_dir);
+            Self::Environment { spectrum, scale, scene_radius, map } => {
+                // the photon travels against the direction the light arrives from
+                let (from, le, pdf) = match map {
+                    Some(m) => {
+                        let (from, pdf, le) = m.sample(u_dir, wl)?;
+                        (from, le, pdf)
+                    }
+                    None => (sampling::uniform_sphere(u_dir), spectrum.sample(wl), sampling::UNIFORM_SPHERE_PDF),
+                };
+                let dir = -from;
                 let origin = disk_origin(center, *scene_radius, dir, u_pos);
                 let area = PI * scene_radius * scene_radius;
-                EmittedPhoton { origin, dir, flux: spectrum.sample(wl) * (*scale * 4.0 * PI * area) }
+                EmittedPhoton { origin, dir, flux: le * (*scale * area / pdf) }
             }
         };
         (photon.flux.is_finite() && !photon.flux.is_black() && photon.dir.is_finite()).then_some(photon)

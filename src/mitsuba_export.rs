@@ -212,7 +212,10 @@ pub fn export(desc: &SceneDesc, width: u32, height: u32, spp: u32) -> Result<Mit
                 vec3(*direction),
                 spectrum_tag("irradiance", spectrum, *scale)
             ),
-            LightDesc::Environment { spectrum, scale } => {
+            LightDesc::Environment { map: Some(_), .. } => {
+                return Err("an environment map (Mitsuba uplifts its RGB texels its own way)".into());
+            }
+            LightDesc::Environment { spectrum, scale, map: None } => {
                 format!("<emitter type=\"constant\">{}</emitter>", spectrum_tag("radiance", spectrum, *scale))
             }
         };

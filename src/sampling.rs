@@ -128,6 +128,16 @@ impl Distribution1D {
         Some((i, self.pmf(i)))
     }
 
+    /// [`sample`](Self::sample) that also returns where `u` fell within the chosen item's share
+    /// of [0, 1), rescaled to [0, 1): a fresh uniform number for sampling inside the item.
+    pub fn sample_remapped(&self, u: f32) -> Option<(usize, f32, f32)> {
+        let (i, pmf) = self.sample(u)?;
+        let prev = if i == 0 { 0.0 } else { self.cdf[i - 1] };
+        let width = self.cdf[i] - prev;
+        let r = if width > 0.0 { ((u as f64 * self.total - prev) / width) as f32 } else { 0.5 };
+        Some((i, pmf, r.clamp(0.0, 1.0 - f32::EPSILON)))
+    }
+
     /// Probability of item `i`.
     pub fn pmf(&self, i: usize) -> f32 {
         if self.total <= 0.0 || i >= self.cdf.len() {

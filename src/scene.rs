@@ -294,9 +294,12 @@ impl Scene {
                     }
                     Light::Directional { direction: d, spectrum: spectrum.clone(), scale: *scale, scene_radius: radius }
                 }
-                LightDesc::Environment { spectrum, scale } => {
-                    Light::Environment { spectrum: spectrum.clone(), scale: *scale, scene_radius: radius }
-                }
+                LightDesc::Environment { spectrum, scale, map } => Light::Environment {
+                    spectrum: spectrum.clone(),
+                    scale: *scale,
+                    scene_radius: radius,
+                    map: map.as_ref().map(|m| std::sync::Arc::new(crate::env_map::EnvMap::new(m))),
+                },
             };
             lights.push(light);
         }

@@ -7,6 +7,7 @@
 #![warn(missing_docs)]
 
 pub mod bsdf_file;
+pub mod env_map;
 pub mod error;
 mod glob;
 pub mod gltf;

@@ -117,13 +117,34 @@ pub enum LightDesc {
         /// Multiplier.
         scale: f32,
     },
-    /// Constant environment: radiance L(lambda) = scale * spectrum from every direction.
+    /// Environment at infinity: radiance L(lambda) = scale * spectrum from every direction, or
+    /// with a lat-long `map`, scale times the light colour of the map's texel in each direction.
     Environment {
-        /// Spectral shape.
+        /// Spectral shape (constant environments).
         spectrum: Spectrum,
         /// Multiplier.
         scale: f32,
+        /// A lat-long radiance map (`file = "sky.exr"`).
+        map: Option<std::sync::Arc<EnvMapDesc>>,
     },
+}
+
+/// A lat-long (equirectangular) environment map: linear RGB radiance texels, row 0 the zenith
+/// (+Y); u = 0.5 + atan2(d.x, -d.z) / (2 pi) (the image centre looks along -Z); rotated about +Y
+/// by `rotate_deg` (counter-clockwise seen from above). Each texel's RGB is a light colour:
+/// (1, 1, 1) is D65 white of luminance 1.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnvMapDesc {
+    /// The file it came from (for messages).
+    pub file: PathBuf,
+    /// Texels per row.
+    pub width: usize,
+    /// Rows.
+    pub height: usize,
+    /// Row-major RGB texels.
+    pub texels: Vec<[f32; 3]>,
+    /// Rotation about +Y in degrees.
+    pub rotate_deg: f32,
 }
 
 /// Which image axis `fov_deg` spans.

@@ -114,20 +114,21 @@ pub fn emitted_at_hit(
     le * power_heuristic(prev.pdf, p_light)
 }
 
-/// MIS-weighted radiance of the lights at infinity seen by a ray that left `prev` and escaped.
+/// MIS-weighted radiance of the lights at infinity seen by a ray that left `prev` in direction
+/// `dir` and escaped.
 #[inline]
-pub fn escaped_radiance(scene: &Scene, prev: &PrevVertex, wl: &SampledWavelengths) -> SampledSpectrum {
+pub fn escaped_radiance(scene: &Scene, prev: &PrevVertex, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
     let mut sum = SampledSpectrum::zero();
     for &i in &scene.infinite_lights {
         let light = &scene.lights[i];
-        let le = light.le_escaped(wl);
+        let le = light.le_escaped(dir, wl);
         if le.is_black() {
             continue;
         }
         let w = if prev.pdf.is_infinite() {
             1.0
         } else {
-            power_heuristic(prev.pdf, scene.light_sampler.pmf(i) * light.pdf_li_escaped())
+            power_heuristic(prev.pdf, scene.light_sampler.pmf(i) * light.pdf_li_escaped(dir))
         };
         sum += le * w;
     }

@@ -103,7 +103,7 @@ pub fn trace(
     let PathState { mut beta, mut class, mut prev, mut eta_scale, mut depth } = state;
     loop {
         let Some(si) = scene.intersect(&ray) else {
-            out.add(class, beta * escaped_radiance(scene, &prev, wl));
+            out.add(class, beta * escaped_radiance(scene, &prev, ray.dir, wl));
             break;
         };
         let wo = -ray.dir;

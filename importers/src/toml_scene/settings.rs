@@ -83,7 +83,7 @@ pub(super) fn light(t: &Tbl<'_>, unit: f32) -> Result<LightDesc, ImportError> {
         "point" => &["position"],
         "spot" => &["position", "target", "direction", "cone_deg", "falloff_start_deg"],
         "directional" => &["direction"],
-        _ => &[],
+        _ => &["file", "rotate_deg"],
     };
     t.check_keys(&[&["type", "spectrum", "scale"][..], own].concat())?;
     let spectrum = match t.get("spectrum") {
@@ -124,7 +124,32 @@ pub(super) fn light(t: &Tbl<'_>, unit: f32) -> Result<LightDesc, ImportError> {
             let direction = t.opt_dir("direction")?.ok_or_else(|| t.missing("direction"))?;
             LightDesc::Directional { direction, spectrum, scale }
         }
-        _ => LightDesc::Environment { spectrum, scale },
+        _ => {
+            let map = match t.get("file") {
+                None => None,
+                Some(v) => {
+                    if t.get("spectrum").is_some() {
+                        return Err(doc.invalid(
+                            &t.key_span("spectrum"),
+                            format!("`{}`: a map gives the colour: `spectrum` and `file` exclude each other", t.path),
+                        ));
+                    }
+                    let what = t.key_path("file");
+                    let name = super::reader::string(doc, v, &what)?;
+                    let path = doc.resolve(name);
+                    let mut m =
+                        crate::env_map::load_env_map(&path).map_err(|e| e.included_from(doc.place(&v.span())))?;
+                    m.rotate_deg = t.opt_f32_where("rotate_deg", "finite", |r| r.is_finite())?.unwrap_or(0.0);
+                    Some(std::sync::Arc::new(m))
+                }
+            };
+            if map.is_none() && t.get("rotate_deg").is_some() {
+                return Err(
+                    doc.invalid(&t.key_span("rotate_deg"), format!("`{}`: `rotate_deg` needs a map `file`", t.path))
+                );
+            }
+            LightDesc::Environment { spectrum, scale, map }
+        }
     };
     Ok(light)
 }

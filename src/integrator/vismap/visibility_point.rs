@@ -106,7 +106,7 @@ fn direct_by_bsdf_sample(
     let prev = PrevVertex { p: si.p, pdf };
     match scene.intersect(&si.spawn_ray(wi)) {
         Some(hit) => weight * emitted_at_hit(scene, &hit, -wi, &prev, wl),
-        None => weight * escaped_radiance(scene, &prev, wl),
+        None => weight * escaped_radiance(scene, &prev, wi, wl),
     }
 }
 
@@ -142,7 +142,7 @@ pub fn trace_camera_path<'s>(
     let mut events = 0u32;
     loop {
         let Some(si) = scene.intersect(&ray) else {
-            out.add(class, beta * escaped_radiance(scene, &prev, &wl));
+            out.add(class, beta * escaped_radiance(scene, &prev, ray.dir, &wl));
             break;
         };
         if class.nonspecular == 0 {
