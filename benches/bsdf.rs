@@ -11,10 +11,10 @@ use std::path::Path;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::{Vec2, Vec3};
+use quasar::core::sampling::uniform_sphere;
 use quasar::materials::spectrum::SampledWavelengths;
 use quasar::materials::tabulated::generate::{Tabulation, material_fn};
 use quasar::materials::{Bsdf, ConductorFresnel, Ior, Material, TabulatedTable, TransportMode};
-use quasar::sampling::uniform_sphere;
 
 const N: usize = 4096;
 

@@ -10,10 +10,10 @@
 use std::path::Path;
 use std::time::Instant;
 
-use quasar::convergence;
-use quasar::integrator::vismap::{self, GatherDepth, VismapRun, VismapSettings};
-use quasar::job::{JobOverrides, load_scene, render_desc};
-use quasar::method::BidirectionalOptions;
+use quasar::integrator::bidir::{self, GatherDepth, VismapRun, VismapSettings};
+use quasar::integrator::method::BidirectionalOptions;
+use quasar::render::job::{JobOverrides, load_scene, render_desc};
+use quasar::tools::convergence;
 
 fn env_or<T: std::str::FromStr>(key: &str, default: T) -> T {
     std::env::var(key).ok().and_then(|v| v.parse().ok()).unwrap_or(default)
@@ -21,8 +21,8 @@ fn env_or<T: std::str::FromStr>(key: &str, default: T) -> T {
 
 fn photon_throughput(scene_path: &str) {
     let desc = load_scene(Path::new(scene_path)).expect("scene loads");
-    let scene = quasar::scene::Scene::compile(&desc).unwrap();
-    let camera = quasar::camera::Camera::new(&desc.camera, 160, 120).unwrap();
+    let scene = quasar::core::scene::Scene::compile(&desc).unwrap();
+    let camera = quasar::core::camera::Camera::new(&desc.camera, 160, 120).unwrap();
     for threads in [1, 2] {
         for depth in [0, 1] {
             let settings = VismapSettings {
@@ -41,12 +41,12 @@ fn photon_throughput(scene_path: &str) {
                 checkpoint: None,
             };
             let t = Instant::now();
-            let (result, stats) = vismap::render(&scene, &camera, &settings, &run, threads);
+            let (result, stats) = bidir::render(&scene, &camera, &settings, &run, threads);
             let total = t.elapsed().as_secs_f64();
             let points = result.film.pixels.len();
-            let per_point = std::mem::size_of::<vismap::visibility_point::VisibilityPoint>()
-                + std::mem::size_of::<vismap::photon_pass::GatherRadii>()
-                + std::mem::size_of::<vismap::photon_pass::PhotonSums>()
+            let per_point = std::mem::size_of::<bidir::visibility_point::VisibilityPoint>()
+                + std::mem::size_of::<bidir::photon_pass::GatherRadii>()
+                + std::mem::size_of::<bidir::photon_pass::PhotonSums>()
                 + std::mem::size_of::<quasar::materials::spectrum::SampledWavelengths>();
             println!(
                 "{scene_path} {threads}t depth {depth}: {:.3} Mphotons/s, {:.3} M lookups/s (photon pass {:.2} s of {:.2} s); \

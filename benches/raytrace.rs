@@ -8,10 +8,10 @@ use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::{Vec2, Vec3, Vec3A};
-use quasar::camera::Camera;
-use quasar::geometry::{Accel, NONE, Ray, TriangleInfo};
-use quasar::sampling::{Sampler, uniform_sphere};
-use quasar::scene::Scene;
+use quasar::core::camera::Camera;
+use quasar::core::geometry::{Accel, NONE, Ray, TriangleInfo};
+use quasar::core::sampling::{Sampler, uniform_sphere};
+use quasar::core::scene::Scene;
 use rayon::prelude::*;
 
 /// A bumpy UV sphere with `n_theta * n_phi * 2` triangles.
@@ -133,7 +133,7 @@ fn benches(c: &mut Criterion) {
     for (name, path) in
         [("cornell-box", "scenes/cornell-box/cornell-box.toml"), ("glass-plate", "scenes/glass-plate/glass-plate.toml")]
     {
-        let desc = quasar::job::load_scene(std::path::Path::new(path)).expect("shipped scene loads");
+        let desc = quasar::render::job::load_scene(std::path::Path::new(path)).expect("shipped scene loads");
         let scene = Scene::compile(&desc).unwrap();
         let camera = Camera::new(&desc.camera, 256, 256).unwrap();
         bench_accel(c, name, &scene_tris(&scene), &camera, scene.center, scene.radius);

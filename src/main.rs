@@ -4,9 +4,9 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use quasar::job::{JobOverrides, load_scene, load_scene_with, render_desc, write_outputs_with_exposure};
-use quasar::method::BidirectionalOptions;
-use quasar::scene::Scene;
+use quasar::core::scene::Scene;
+use quasar::integrator::method::BidirectionalOptions;
+use quasar::render::job::{JobOverrides, load_scene, load_scene_with, render_desc, write_outputs_with_exposure};
 use quasar_importers::ImportOptions;
 
 #[derive(Parser)]
@@ -225,10 +225,10 @@ fn bsdf(action: Option<BsdfCommand>, file: Option<PathBuf>, plot: Option<PathBuf
     for w in &warnings {
         eprintln!("warning: {}: {w}", file.display());
     }
-    let r = quasar::bsdf_report::report(&table, &file);
+    let r = quasar::tools::bsdf_report::report(&table, &file);
     print!("{}", r.text);
     if let Some(p) = plot {
-        print!("{}", quasar::bsdf_report::write_lobe_plot(&table, &p)?);
+        print!("{}", quasar::tools::bsdf_report::write_lobe_plot(&table, &p)?);
     }
     if !r.energy_ok {
         anyhow::bail!("{}: the table fails the energy check (max albedo {:.4})", file.display(), r.max_albedo);
@@ -301,9 +301,9 @@ fn bench(cmd: BenchCommand) -> anyhow::Result<()> {
     let path = file.unwrap_or_else(|| tmp.join("grid.glb"));
     let triangles = 2 * u64::from(grid) * u64::from(grid);
     let t = std::time::Instant::now();
-    let bytes = quasar::import_bench::write_grid_glb(&path, grid)?;
+    let bytes = quasar::tools::import_bench::write_grid_glb(&path, grid)?;
     eprintln!("wrote {} ({triangles} triangles, {bytes} bytes) in {:.2} s", path.display(), t.elapsed().as_secs_f64());
-    let r = quasar::import_bench::run(&path, triangles)?;
+    let r = quasar::tools::import_bench::run(&path, triangles)?;
     let mib = |v: Option<f64>| v.map_or("n/a".to_owned(), |v| format!("{v:.0} MiB"));
     println!("triangles: {}", r.triangles);
     println!("file: {:.1} MiB", r.file_bytes as f64 / (1 << 20) as f64);
@@ -342,7 +342,7 @@ fn bench_convergence(cmd: BenchCommand) -> anyhow::Result<()> {
     else {
         anyhow::bail!("not a convergence benchmark");
     };
-    use quasar::convergence;
+    use quasar::tools::convergence;
     let methods = convergence::parse_methods(&methods)?;
     if !(time > 0.0 && time.is_finite()) || steps == 0 || steps > 20 {
         anyhow::bail!("--time must be positive and --steps in 1..=20");
@@ -455,7 +455,7 @@ fn run() -> anyhow::Result<()> {
             quiet,
         } => {
             let desc = load_scene_with(&scene, &ImportOptions { allow_external_paths, units_scale: units })?;
-            quasar::interrupt::install_handler();
+            quasar::render::interrupt::install_handler();
             let ov = JobOverrides {
                 width,
                 height,
@@ -508,7 +508,7 @@ fn run() -> anyhow::Result<()> {
         Command::Compare { image, reference, layer, diff, z_test } => {
             let a = quasar::output::read_exr(&image)?;
             let r = quasar::output::read_exr(&reference)?;
-            let errors = quasar::compare::compare(&a, &r, layer.as_deref()).map_err(anyhow::Error::msg)?;
+            let errors = quasar::tools::compare::compare(&a, &r, layer.as_deref()).map_err(anyhow::Error::msg)?;
             println!(
                 "{:<12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12}",
                 "layer", "rmse", "relmse", "mean_rel", "max", "mean", "ref_mean"
@@ -520,13 +520,14 @@ fn run() -> anyhow::Result<()> {
                 );
             }
             if let Some(p) = diff {
-                quasar::compare::write_difference_png(&a, &r, &p).map_err(anyhow::Error::msg)?;
+                quasar::tools::compare::write_difference_png(&a, &r, &p).map_err(anyhow::Error::msg)?;
             }
             if z_test {
                 let est = |img, path: &PathBuf| {
-                    quasar::ztest::Estimate::from_exr(img).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
+                    quasar::tools::ztest::Estimate::from_exr(img)
+                        .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
                 };
-                let report = quasar::ztest::ZTest::default()
+                let report = quasar::tools::ztest::ZTest::default()
                     .run(&est(&a, &image)?, &est(&r, &reference)?)
                     .map_err(anyhow::Error::msg)?;
                 print!("{report}");
@@ -545,7 +546,7 @@ fn run() -> anyhow::Result<()> {
                 anyhow::bail!("{}: the output is one of the inputs", output.display());
             }
             let images = inputs.iter().map(|p| quasar::output::read_exr(p)).collect::<Result<Vec<_>, _>>()?;
-            let merged = quasar::merge::merge(&images).map_err(anyhow::Error::msg)?;
+            let merged = quasar::tools::merge::merge(&images).map_err(anyhow::Error::msg)?;
             quasar::output::write_exr_atomic(&merged, &output)?;
             Ok(())
         }
@@ -554,7 +555,7 @@ fn run() -> anyhow::Result<()> {
         Command::ExportMitsuba { scene, output, width, height, spp } => {
             let desc = load_scene(&scene)?;
             let r = &desc.render;
-            quasar::mitsuba_export::write(
+            quasar::tools::mitsuba_export::write(
                 &desc,
                 &output,
                 width.unwrap_or(r.width),
@@ -593,7 +594,7 @@ fn run() -> anyhow::Result<()> {
                 compiled.lights.len() - desc.lights.len()
             );
             println!("bounding sphere: centre {:?}, radius {}", compiled.center, compiled.radius);
-            print!("{}", quasar::analysis::SceneAnalysis::of(&compiled).report());
+            print!("{}", quasar::integrator::analysis::SceneAnalysis::of(&compiled).report());
             Ok(())
         }
     }

@@ -3,7 +3,7 @@
 mod common;
 
 use common::{render_file, write_scene};
-use quasar::job::JobOverrides;
+use quasar::render::job::JobOverrides;
 
 /// A convex diffuse object of albedo a inside a constant environment of radiance Le reflects
 /// exactly L = a * Le everywhere (it sees only the environment: E = pi Le, L = a/pi * E).

@@ -101,10 +101,10 @@ fn a_uniform_map_renders_like_the_constant_environment() {
 #[test]
 fn bad_map_references_name_the_scene_line() {
     let scene = write_scene(&FLOOR.replace("sky.exr", "missing.exr"), &[]);
-    let e = quasar::job::load_scene(&scene.path).unwrap_err().to_string();
+    let e = quasar::render::job::load_scene(&scene.path).unwrap_err().to_string();
     assert!(e.contains("missing.exr") && e.contains("scene.toml:"), "{e}");
     let scene = write_scene(&FLOOR.replace("scale = 2.0", "scale = 2.0\nspectrum = 1"), &[]);
     write_map(scene.dir.path(), sky);
-    let e = quasar::job::load_scene(&scene.path).unwrap_err().to_string();
+    let e = quasar::render::job::load_scene(&scene.path).unwrap_err().to_string();
     assert!(e.contains("exclude each other"), "{e}");
 }

@@ -6,9 +6,9 @@
 mod common;
 
 use common::{mean, rel_mse, render_file, write_scene};
-use quasar::job::JobOverrides;
-use quasar::method::BidirectionalOptions;
+use quasar::integrator::method::BidirectionalOptions;
 use quasar::output::ExrImage;
+use quasar::render::job::JobOverrides;
 
 /// Every method, with small budgets: (name, overrides).
 fn every_method(w: u32, h: u32, seed: u64) -> Vec<(&'static str, JobOverrides)> {
@@ -444,8 +444,8 @@ fn duplicate_and_zero_area_triangles_are_dropped() {
         "[[shape]]\ntype = \"mesh\"\nfile = \"m.obj\"\nmaterial = \"m\"\n[materials.m]\ntype = \"diffuse\"\nreflectance = 0.5\n",
         &[("m.obj", &obj)],
     );
-    let desc = quasar::job::load_scene(&s.path).unwrap();
-    let scene = quasar::scene::Scene::compile(&desc).unwrap();
+    let desc = quasar::render::job::load_scene(&s.path).unwrap();
+    let scene = quasar::core::scene::Scene::compile(&desc).unwrap();
     assert_eq!(scene.triangle_count(), 2);
     assert_eq!(scene.dropped_triangles, 20_000);
 }

@@ -7,7 +7,7 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use quasar::importers::{ImportOptions, ObjMaterials, import_gltf, import_obj, parse_toml_scene};
-use quasar::job::{JobOverrides, render_desc};
+use quasar::render::job::{JobOverrides, render_desc};
 
 fn inputs(target: &str) -> Vec<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz/regressions").join(target);
@@ -36,7 +36,7 @@ fn obj_regressions() {
     for p in inputs("obj") {
         match import_obj(&p, &ImportOptions::default(), ObjMaterials::FromMtl) {
             Ok(desc) => {
-                quasar::scene::Scene::compile(&desc).unwrap();
+                quasar::core::scene::Scene::compile(&desc).unwrap();
             }
             Err(e) => assert!(e.to_string().contains(&*p.file_name().unwrap().to_string_lossy()), "{e}"),
         }
@@ -87,7 +87,7 @@ fn bsdf_regressions() {
                 .and_then(|c| quasar::materials::TabulatedTable::new(c.spec).ok().map(std::sync::Arc::new))
         };
         if let Some(t) = table {
-            quasar::bsdf_report::check_finite(&t).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+            quasar::tools::bsdf_report::check_finite(&t).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
         }
     }
 }

@@ -3,7 +3,7 @@
 
 mod common;
 
-use quasar::job::{JobOverrides, render_desc};
+use quasar::render::job::{JobOverrides, render_desc};
 use quasar_importers::gltf::writer::{BinStorage, GltfWriter, Prim};
 use quasar_importers::photometric::LUMINANCE_PER_Y;
 use quasar_importers::{ImportOptions, import_scene};
@@ -125,8 +125,8 @@ fn normal_mapped_floor_normal(rgb: [u8; 3]) -> glam::Vec3 {
     std::fs::write(&p, w.to_glb()).unwrap();
     let desc = import_scene(&p, &ImportOptions::default()).unwrap();
     assert!(desc.warnings.is_empty(), "{:?}", desc.warnings);
-    let scene = quasar::scene::Scene::compile(&desc).unwrap();
-    let ray = quasar::geometry::Ray::new(glam::Vec3::new(0.3, 2.0, 0.2), -glam::Vec3::Y); // (-0, -1, -0): an exactly axis-parallel ray
+    let scene = quasar::core::scene::Scene::compile(&desc).unwrap();
+    let ray = quasar::core::geometry::Ray::new(glam::Vec3::new(0.3, 2.0, 0.2), -glam::Vec3::Y); // (-0, -1, -0): an exactly axis-parallel ray
     let si = scene.intersect(&ray).expect("hits the floor");
     assert!((si.ng - glam::Vec3::Y).length() < 1e-5);
     si.ns

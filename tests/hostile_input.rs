@@ -8,9 +8,9 @@ mod common;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::Path;
 
-use quasar::job::{JobOverrides, load_scene, render_desc};
-use quasar::method::BidirectionalOptions;
-use quasar::sampling::mix64;
+use quasar::core::sampling::mix64;
+use quasar::integrator::method::BidirectionalOptions;
+use quasar::render::job::{JobOverrides, load_scene, render_desc};
 
 /// Pieces spliced into files: numbers at and beyond the limits, and structure.
 const TOKENS: [&str; 24] = [

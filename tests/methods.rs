@@ -10,8 +10,8 @@ use common::{
     ALL_QUANTITIES, assert_converges_from, bidir_ov, glossy_floor_scene, mean, pt_ov, rel_mse, render_file, shipped,
     write_scene,
 };
-use quasar::job::{JobOutput, JobOverrides};
-use quasar::method::BidirectionalOptions;
+use quasar::integrator::method::BidirectionalOptions;
+use quasar::render::job::{JobOutput, JobOverrides};
 
 fn method_ov(w: u32, h: u32, method: &str, cone: Option<f32>, iterations: u32) -> JobOverrides {
     let mut ov = bidir_ov(w, h, method, iterations, 20_000, 7);
@@ -97,9 +97,9 @@ fn narrow_glossy() -> String {
 
 /// Which material each pixel centre sees directly (None: background), by the same camera rays.
 fn materials_seen(path: &Path, w: u32, h: u32) -> Vec<Option<String>> {
-    let desc = quasar::job::load_scene(path).unwrap();
-    let scene = quasar::scene::Scene::compile(&desc).unwrap();
-    let camera = quasar::camera::Camera::new(&desc.camera, w, h).unwrap();
+    let desc = quasar::render::job::load_scene(path).unwrap();
+    let scene = quasar::core::scene::Scene::compile(&desc).unwrap();
+    let camera = quasar::core::camera::Camera::new(&desc.camera, w, h).unwrap();
     (0..w * h)
         .map(|i| {
             let ray = camera.ray(glam::Vec2::new((i % w) as f32 + 0.5, (i / w) as f32 + 0.5));

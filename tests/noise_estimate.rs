@@ -6,7 +6,7 @@ use std::path::Path;
 use std::process::Command;
 
 use common::{rel_mse, render_file};
-use quasar::job::{JobOverrides, write_outputs};
+use quasar::render::job::{JobOverrides, write_outputs};
 
 fn cornell() -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell-box/cornell-box.toml")

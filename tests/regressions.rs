@@ -1,5 +1,5 @@
 //! Regression scenes of the correctness review (issue 13), each rendered with the methods that
-//! apply and compared with `pt` by the block z-test (`quasar::ztest`) of the beauty and of every
+//! apply and compared with `pt` by the block z-test (`quasar::tools::ztest`) of the beauty and of every
 //! layer: delta lights inside the quasi-specular cone, camera paths through long chains of
 //! glossy gather points, every light type seen via a glossy surface.
 
@@ -82,11 +82,11 @@ fn auto_at_default_settings_converges_on_the_shipped_scenes() {
     for scene in ["glass-plate/glass-plate.toml", "lightguide/lightguide.toml"] {
         let path = shipped(scene);
         let reference = render_file(&path, &pt_ov(32, 24, 8192, 1));
-        let ov = quasar::job::JobOverrides {
+        let ov = quasar::render::job::JobOverrides {
             width: Some(32),
             height: Some(24),
             seed: Some(2),
-            bidir: quasar::method::BidirectionalOptions { iterations: Some(256), ..Default::default() },
+            bidir: quasar::integrator::method::BidirectionalOptions { iterations: Some(256), ..Default::default() },
             ..Default::default()
         };
         let img = render_file(&path, &ov);

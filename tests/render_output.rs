@@ -4,8 +4,8 @@
 mod common;
 
 use common::{render_file, write_scene};
-use quasar::job::{JobOverrides, write_outputs};
 use quasar::output::read_exr;
+use quasar::render::job::{JobOverrides, write_outputs};
 
 /// A small closed box with an area light, a glass sphere, a rough metal sphere and a two-sided
 /// diffuse quad: every material and a caustic path.

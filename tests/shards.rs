@@ -8,9 +8,9 @@ mod common;
 use std::path::Path;
 
 use common::render_file;
-use quasar::job::JobOverrides;
-use quasar::method::BidirectionalOptions;
+use quasar::integrator::method::BidirectionalOptions;
 use quasar::output::ExrImage;
+use quasar::render::job::JobOverrides;
 
 fn scene() -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/glass-plate/glass-plate.toml")
@@ -51,7 +51,7 @@ fn four_shards_merge_into_the_full_render() {
         for s in &shards {
             assert_eq!(s.meta("spp"), Some("2"), "{method}");
         }
-        let merged = quasar::merge::merge(&shards).unwrap();
+        let merged = quasar::tools::merge::merge(&shards).unwrap();
         assert_eq!(merged.meta("spp"), Some("8"));
         assert_eq!(merged.meta("merged_from"), Some("4"));
         assert_close(&merged, &full, method);
@@ -62,10 +62,10 @@ fn four_shards_merge_into_the_full_render() {
 fn merge_refuses_mismatched_renders() {
     let a = render_file(&scene(), &ov("pt", Some((0, 2)))).image;
     let b = render_file(&scene(), &ov("vismap", Some((1, 2)))).image;
-    assert!(quasar::merge::merge(&[a.clone(), b]).unwrap_err().contains("method"));
+    assert!(quasar::tools::merge::merge(&[a.clone(), b]).unwrap_err().contains("method"));
     let c = render_file(&scene(), &JobOverrides { width: Some(12), ..ov("pt", None) }).image;
-    assert!(quasar::merge::merge(&[a, c]).is_err());
-    assert!(quasar::merge::merge(&[]).is_err());
+    assert!(quasar::tools::merge::merge(&[a, c]).is_err());
+    assert!(quasar::tools::merge::merge(&[]).is_err());
 }
 
 /// A render stopped and resumed from its checkpoint equals the uninterrupted render bit for bit,
@@ -87,12 +87,12 @@ fn resume_equals_the_uninterrupted_render() {
             assert!(c.values.iter().zip(r).all(|(a, b)| a.to_bits() == b.to_bits()), "{method}: {}", c.name);
         }
         let other_seed = JobOverrides { seed: Some(18), resume: Some(cp.clone()), ..ov(method, None) };
-        let desc = quasar::job::load_scene(&scene()).unwrap();
-        let err = quasar::job::render_desc(&desc, &other_seed, false).err().unwrap();
+        let desc = quasar::render::job::load_scene(&scene()).unwrap();
+        let err = quasar::render::job::render_desc(&desc, &other_seed, false).err().unwrap();
         assert!(format!("{err:#}").contains("another scene or other render settings"), "{err:#}");
     }
     std::fs::write(dir.path().join("bad.ckpt"), b"QSRCKPT1garbage").unwrap();
-    let desc = quasar::job::load_scene(&scene()).unwrap();
+    let desc = quasar::render::job::load_scene(&scene()).unwrap();
     let bad = JobOverrides { resume: Some(dir.path().join("bad.ckpt")), ..ov("pt", None) };
-    assert!(quasar::job::render_desc(&desc, &bad, false).is_err());
+    assert!(quasar::render::job::render_desc(&desc, &bad, false).is_err());
 }

@@ -9,8 +9,8 @@ mod common;
 
 use common::{bidir_ov, pt_ov, render_file, shipped};
 use quasar::film::Quantity;
-use quasar::job::JobOverrides;
-use quasar::ztest::{Estimate, ZTest};
+use quasar::render::job::JobOverrides;
+use quasar::tools::ztest::{Estimate, ZTest};
 
 /// RMS z of 20 seeds against `reference`: per pixel, and per block at every block size.
 fn rms_z(scene: &std::path::Path, ov: impl Fn(u64) -> JobOverrides, reference: &Estimate) -> (f64, Vec<(usize, f64)>) {

@@ -9,11 +9,11 @@ use std::path::Path;
 
 use common::{glossy_floor_scene, mean, rel_mse, render_file, write_scene};
 use quasar::importers::bsdf_file::to_toml;
-use quasar::job::JobOverrides;
+use quasar::integrator::method::BidirectionalOptions;
 use quasar::materials::spectrum::Spectrum;
 use quasar::materials::tabulated::generate::{Tabulation, material_fn};
 use quasar::materials::{ConductorFresnel, Material};
-use quasar::method::BidirectionalOptions;
+use quasar::render::job::JobOverrides;
 
 const ALPHA: f32 = 0.25;
 
@@ -87,7 +87,7 @@ fn every_library_material_loads_and_the_preview_scene_renders() {
         let p = e.unwrap().path();
         if p.extension().is_some_and(|x| x == "toml") {
             let t = quasar::importers::bsdf_file::load_tabulated_bsdf(&p).unwrap_or_else(|e| panic!("{e}"));
-            let r = quasar::bsdf_report::report(&t, &p);
+            let r = quasar::tools::bsdf_report::report(&t, &p);
             assert!(r.energy_ok && r.max_albedo > 0.3, "{}: {}", p.display(), r.max_albedo);
             n += 1;
         }
@@ -96,7 +96,7 @@ fn every_library_material_loads_and_the_preview_scene_renders() {
     // Every entry regenerates to the shipped file: the same grids exactly, values equal up to the
     // last of their 5 significant digits (the generator's floating point may round one digit
     // differently on another libm), and the generated text reads back as the generated table.
-    let generated = quasar::material_library::library();
+    let generated = quasar::tools::material_library::library();
     for e in &generated {
         let path = lib.join(e.file);
         let stale = format!("{} is out of date: run `cargo run --release --example material_library`", e.file);
@@ -127,7 +127,7 @@ fn every_library_material_loads_and_the_preview_scene_renders() {
                 );
             }
         }
-        let text = quasar::material_library::entry_text(e);
+        let text = quasar::tools::material_library::entry_text(e);
         let (again, _) = quasar::importers::bsdf_file::parse_spec(&text, &path).unwrap();
         assert!(again == e.spec, "{} does not read back as generated", e.file);
     }

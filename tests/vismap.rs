@@ -9,7 +9,7 @@ use common::{
     ALL_QUANTITIES, assert_converges, assert_converges_from, bidir_ov, layer_luminance, mean, pt_ov, rel_mse,
     render_file, shipped, write_scene,
 };
-use quasar::job::{JobOutput, JobOverrides};
+use quasar::render::job::{JobOutput, JobOverrides};
 
 fn vismap_ov(w: u32, h: u32, iterations: u32, depth: u32) -> JobOverrides {
     let mut ov = bidir_ov(w, h, "vismap", iterations, 20_000, 5);

@@ -5,7 +5,7 @@ mod common;
 
 use common::{bidir_ov, pt_ov, render_file};
 use quasar::film::Quantity;
-use quasar::ztest::{Estimate, ZTest};
+use quasar::tools::ztest::{Estimate, ZTest};
 
 /// `e` with the pixels of the `size` x `size` region at (`x0`, `y0`) made `factor` times brighter
 /// (their samples scaled: the value by `factor`, its variance by `factor`^2).
@@ -57,6 +57,6 @@ fn the_z_test_catches_a_one_percent_regional_bias_in_vismap() {
     let scene = common::furnace_scene(0.5, 1.0, 16);
     let reference = render_file(&scene.path, &pt_ov(16, 16, 4096, 1));
     let img = render_file(&scene.path, &bidir_ov(16, 16, "vismap", 4096, 256, 2));
-    let e = |o: &quasar::job::JobOutput| Estimate::from_film(&o.result.film, Quantity::Beauty);
+    let e = |o: &quasar::render::job::JobOutput| Estimate::from_film(&o.result.film, Quantity::Beauty);
     check("furnace vismap", &e(&img), &e(&reference));
 }

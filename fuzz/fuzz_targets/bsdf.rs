@@ -1,6 +1,6 @@
 //! Fuzz target: tabulated-BSDF files. The first byte picks the reader (even: TOML
 //! `quasar-bsdf`, odd: Zemax tabular `.bsdf`); a table that loads must give finite, non-negative
-//! f, pdf and samples (`quasar::bsdf_report::check_finite`).
+//! f, pdf and samples (`quasar::tools::bsdf_report::check_finite`).
 //! Must never panic, hang or allocate without bound.
 #![no_main]
 
@@ -21,7 +21,7 @@ fuzz_target!(|data: &[u8]| {
             .and_then(|c| TabulatedTable::new(c.spec).ok().map(std::sync::Arc::new))
     };
     let Some(table) = table else { return };
-    if let Err(e) = quasar::bsdf_report::check_finite(&table) {
+    if let Err(e) = quasar::tools::bsdf_report::check_finite(&table) {
         panic!("{e}");
     }
 });

@@ -21,6 +21,6 @@ fuzz_target!(|data: &[u8]| {
                 }
             }
         }
-        let _ = quasar::scene::Scene::compile(&desc);
+        let _ = quasar::core::scene::Scene::compile(&desc);
     }
 });

@@ -13,6 +13,6 @@ fuzz_target!(|data: &[u8]| {
         return;
     }
     if let Ok(desc) = import_obj(&path, &ImportOptions::default(), ObjMaterials::FromMtl) {
-        let _ = quasar::scene::Scene::compile(&desc);
+        let _ = quasar::core::scene::Scene::compile(&desc);
     }
 });

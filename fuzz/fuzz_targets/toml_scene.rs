@@ -6,8 +6,8 @@ use std::path::Path;
 
 use libfuzzer_sys::fuzz_target;
 use quasar::importers::{ImportOptions, parse_toml_scene};
-use quasar::job::{JobOverrides, render_desc};
-use quasar::method::BidirectionalOptions;
+use quasar::render::job::{JobOverrides, render_desc};
+use quasar::integrator::method::BidirectionalOptions;
 
 fuzz_target!(|data: &[u8]| {
     let Ok(text) = std::str::from_utf8(data) else { return };

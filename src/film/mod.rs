@@ -2,14 +2,14 @@
 //! the output AOV channels (DESIGN.md section 5), with the statistics of their standard errors.
 
 mod blocks;
+mod layers;
 
 pub use blocks::{BLOCK_BASE, BlockBatches, BlockLevel, block_sizes};
+pub use layers::{LayeredRadiance, PathClass};
 
 use quasar_materials::spectrum::SampledWavelengths;
 use quasar_materials::spectrum::color::xyz_to_linear_srgb;
 use rayon::prelude::*;
-
-use crate::integrator::LayeredRadiance;
 
 /// Number of radiance layers (emission, direct, indirect, caustic).
 pub const N_LAYERS: usize = 4;
@@ -275,7 +275,7 @@ impl Film {
             .map(|p| {
                 let y: f64 = p.xyz[..BEAUTY_LAYERS].iter().map(|l| l[1]).sum::<f64>() / p.samples as f64;
                 let e = p.stderr_y();
-                e * e / (y * y + crate::compare::REL_EPS)
+                e * e / (y * y + crate::tools::compare::REL_EPS)
             })
             .sum();
         (sum / self.pixels.len().max(1) as f64).sqrt()
@@ -307,7 +307,7 @@ mod tests {
         assert!(film.estimated_rel_error().is_infinite());
         film.pixels[0] = p;
         let y = 2.0 * unit as f64;
-        let expected = (unit as f64 * unit as f64 / (y * y + crate::compare::REL_EPS)).sqrt();
+        let expected = (unit as f64 * unit as f64 / (y * y + crate::tools::compare::REL_EPS)).sqrt();
         assert!((film.estimated_rel_error() - expected).abs() < 1e-6);
     }
 }

@@ -5,9 +5,9 @@ use glam::Vec3;
 use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
 use quasar_materials::{Bsdf, TransportMode};
 
-use crate::light::Light;
-use crate::sampling::{Sampler, power_heuristic};
-use crate::scene::{Scene, SurfaceInteraction};
+use crate::core::light::Light;
+use crate::core::sampling::{Sampler, power_heuristic};
+use crate::core::scene::{Scene, SurfaceInteraction};
 
 /// How the current path vertex was reached, for the MIS weight of emission found there.
 #[derive(Clone, Copy, Debug)]
@@ -98,7 +98,7 @@ pub fn emitted_at_hit(
     prev: &PrevVertex,
     wl: &SampledWavelengths,
 ) -> SampledSpectrum {
-    if si.light == crate::geometry::NONE {
+    if si.light == crate::core::geometry::NONE {
         return SampledSpectrum::zero();
     }
     let light = &scene.lights[si.light as usize];

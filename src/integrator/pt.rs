@@ -6,11 +6,11 @@ use quasar_materials::TransportMode;
 use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
 
 use super::direct::{PrevVertex, emitted_at_hit, escaped_radiance, sample_direct};
-use super::layers::{LayeredRadiance, PathClass};
 use super::scatter::scatter;
-use crate::geometry::Ray;
-use crate::sampling::Sampler;
-use crate::scene::Scene;
+use crate::core::geometry::Ray;
+use crate::core::sampling::Sampler;
+use crate::core::scene::Scene;
+use crate::film::{LayeredRadiance, PathClass};
 
 /// Settings of the path tracer.
 #[derive(Clone, Copy, Debug)]

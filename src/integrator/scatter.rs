@@ -3,8 +3,8 @@
 use glam::Vec3;
 use quasar_materials::{Bsdf, BsdfSample, Frame, TransportMode};
 
-use crate::sampling::Sampler;
-use crate::scene::SurfaceInteraction;
+use crate::core::sampling::Sampler;
+use crate::core::scene::SurfaceInteraction;
 
 /// A sampled continuation of a path.
 #[derive(Clone, Copy, Debug)]

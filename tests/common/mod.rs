@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use quasar::job::{JobOutput, JobOverrides, load_scene, render_desc};
+use quasar::render::job::{JobOutput, JobOverrides, load_scene, render_desc};
 
 /// A temporary directory holding one scene file.
 pub struct TempScene {
@@ -31,11 +31,11 @@ pub fn render_file(path: &Path, ov: &JobOverrides) -> JobOutput {
     render_desc(&desc, ov, false).unwrap_or_else(|e| panic!("{e:#}"))
 }
 
-/// Relative mean squared error of `a` against reference `r`: [`quasar::compare::rel_mse`] (the
+/// Relative mean squared error of `a` against reference `r`: [`quasar::tools::compare::rel_mse`] (the
 /// metric of `quasar compare`), for images of the same size.
 pub fn rel_mse(a: &[f32], r: &[f32]) -> f64 {
     assert_eq!(a.len(), r.len());
-    quasar::compare::rel_mse(a, r)
+    quasar::tools::compare::rel_mse(a, r)
 }
 
 /// Mean of a slice.
@@ -171,7 +171,7 @@ pub fn bidir_ov(w: u32, h: u32, method: &str, iterations: u32, photons: u64, see
         height: Some(h),
         seed: Some(seed),
         method: Some(method.into()),
-        bidir: quasar::method::BidirectionalOptions {
+        bidir: quasar::integrator::method::BidirectionalOptions {
             iterations: Some(iterations),
             photons_per_iteration: Some(photons),
             ..Default::default()
@@ -183,7 +183,7 @@ pub fn bidir_ov(w: u32, h: u32, method: &str, iterations: u32, photons: u64, see
 /// The beauty and every layer.
 pub const ALL_QUANTITIES: [quasar::film::Quantity; quasar::film::N_QUANTITIES] = quasar::film::Quantity::ALL;
 
-/// Runs the block z-test ([`quasar::ztest`], finest blocks of `base` pixels) of `image` against
+/// Runs the block z-test ([`quasar::tools::ztest`], finest blocks of `base` pixels) of `image` against
 /// `reference` for each quantity (beauty and layers, luminance), prints the reports and returns
 /// them.
 pub fn z_test_from(
@@ -192,8 +192,8 @@ pub fn z_test_from(
     image: &JobOutput,
     reference: &JobOutput,
     quantities: &[quasar::film::Quantity],
-) -> Vec<quasar::ztest::ZReport> {
-    use quasar::ztest::{Estimate, ZTest};
+) -> Vec<quasar::tools::ztest::ZReport> {
+    use quasar::tools::ztest::{Estimate, ZTest};
     quantities
         .iter()
         .map(|&q| {
@@ -217,7 +217,7 @@ pub fn assert_converges(
     image: &JobOutput,
     reference: &JobOutput,
     quantities: &[quasar::film::Quantity],
-) -> quasar::ztest::ZReport {
+) -> quasar::tools::ztest::ZReport {
     assert_converges_from(quasar::film::BLOCK_BASE, label, image, reference, quantities)
 }
 
@@ -232,7 +232,7 @@ pub fn assert_converges_from(
     image: &JobOutput,
     reference: &JobOutput,
     quantities: &[quasar::film::Quantity],
-) -> quasar::ztest::ZReport {
+) -> quasar::tools::ztest::ZReport {
     let reports = z_test_from(base, label, image, reference, quantities);
     for (r, q) in reports.iter().zip(quantities) {
         assert!(!r.failed(), "{label} [{}] differs from the reference beyond its standard errors:\n{r}", q.name());

@@ -7,9 +7,9 @@ use glam::{Vec2, Vec3};
 use quasar_materials::Frame;
 use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 
-use crate::env_map::EnvMap;
-use crate::geometry::TriangleGeom;
-use crate::sampling::{self, Distribution1D};
+use crate::core::env_map::EnvMap;
+use crate::core::geometry::TriangleGeom;
+use crate::core::sampling::{self, Distribution1D};
 
 /// Spectral emission shared by the triangles of one emissive mesh: L = scale * spectrum.
 #[derive(Clone, Debug)]
@@ -317,7 +317,7 @@ impl Light {
                 let dir = Frame::from_z(ng).from_local(local);
                 let le = e.radiance(ng, dir, wl);
                 EmittedPhoton {
-                    origin: crate::geometry::offset_origin(p, p_err, ng, dir),
+                    origin: crate::core::geometry::offset_origin(p, p_err, ng, dir),
                     dir,
                     flux: le * (PI * area * sides),
                 }
@@ -415,7 +415,7 @@ mod tests {
         let wl = SampledWavelengths::sample_uniform(0.3);
         let n = 200_000;
         let mut e = 0.0f64;
-        let mut s = crate::sampling::Sampler::new(7, 0, 0);
+        let mut s = crate::core::sampling::Sampler::new(7, 0, 0);
         for _ in 0..n {
             let (i, pmf) = sampler.sample(s.get_1d()).unwrap();
             if let Some(ls) = lights[i].sample_li(Vec3::ZERO, s.get_2d(), &wl, &em) {

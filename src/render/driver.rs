@@ -9,11 +9,11 @@ use indicatif::{ProgressBar, ProgressStyle};
 use quasar_materials::spectrum::SampledWavelengths;
 use rayon::prelude::*;
 
-use crate::camera::Camera;
+use crate::core::camera::Camera;
+use crate::core::sampling::Sampler;
+use crate::core::scene::Scene;
 use crate::film::{Film, PixelSum};
 use crate::integrator::{PtSettings, pt};
-use crate::sampling::Sampler;
-use crate::scene::Scene;
 
 /// How long to render and with what randomness.
 #[derive(Clone, Debug)]
@@ -37,7 +37,7 @@ pub struct RenderOptions {
     /// shards of one render have disjoint random streams and merge into the full render.
     pub shard: (u32, u32),
     /// Continue from this state (`--resume`).
-    pub resume: Option<crate::checkpoint::RenderState>,
+    pub resume: Option<crate::render::checkpoint::RenderState>,
     /// Write checkpoints here, with this fingerprint (`--checkpoint`).
     pub checkpoint: Option<(std::path::PathBuf, u64)>,
 }
@@ -71,7 +71,7 @@ pub struct RenderResult {
     pub depth: Vec<f32>,
     /// Method-specific AOV channels (e.g. `trace_depth.Y`).
     pub extra: Vec<crate::film::Channel>,
-    /// The render was stopped by [`crate::interrupt`] before its budget was spent.
+    /// The render was stopped by [`crate::render::interrupt`] before its budget was spent.
     pub interrupted: bool,
     /// Samples per pixel actually taken.
     pub spp: u32,
@@ -119,7 +119,7 @@ fn render_in_pool(scene: &Scene, camera: &Camera, opts: &RenderOptions, threads:
         film.pixels.par_chunks_mut(w as usize).enumerate().for_each(|(y, row)| {
             // an interrupted pass leaves the remaining rows with fewer samples: every pixel is
             // the mean of its own samples, so the image stays valid
-            if crate::interrupt::requested() {
+            if crate::render::interrupt::requested() {
                 return;
             }
             for (x, acc) in row.iter_mut().enumerate() {
@@ -132,7 +132,7 @@ fn render_in_pool(scene: &Scene, camera: &Camera, opts: &RenderOptions, threads:
             }
         });
         done += n;
-        if crate::interrupt::requested() {
+        if crate::render::interrupt::requested() {
             // `spp` counts the samples every pixel has; the interrupted pass gave some pixels more
             // (`spp.Y` has the exact counts)
             done -= n;
@@ -183,7 +183,7 @@ fn render_in_pool(scene: &Scene, camera: &Camera, opts: &RenderOptions, threads:
 
 /// Writes a pt checkpoint.
 fn write_checkpoint(path: &std::path::Path, fingerprint: u64, film: &Film, done: u32) {
-    let state = crate::checkpoint::RenderState {
+    let state = crate::render::checkpoint::RenderState {
         film: film.clone(),
         done,
         next: done,
@@ -192,7 +192,7 @@ fn write_checkpoint(path: &std::path::Path, fingerprint: u64, film: &Film, done:
         depth_count: Vec::new(),
         radius_scales: Vec::new(),
     };
-    crate::checkpoint::save(path, fingerprint, &state);
+    crate::render::checkpoint::save(path, fingerprint, &state);
 }
 
 /// A progress bar with ETA on stderr over `total` units of work, or None when `show` is false.

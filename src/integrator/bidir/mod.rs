@@ -24,11 +24,11 @@ use rayon::prelude::*;
 use self::grid::VisibilityGrid;
 use self::photon_pass::{GatherRadii, PhotonSums, trace_photons};
 use self::visibility_point::{CameraPathResult, GatherRule, VisibilityPoint, pilot_gather_depth, trace_camera_path};
-use crate::camera::Camera;
+use crate::core::camera::Camera;
+use crate::core::sampling::{Sampler, mix64};
+use crate::core::scene::Scene;
 use crate::film::{Channel, Film};
-use crate::render::{RenderResult, depth_pass, progress_bar};
-use crate::sampling::{Sampler, mix64};
-use crate::scene::Scene;
+use crate::render::driver::{RenderResult, depth_pass, progress_bar};
 
 /// Where camera paths gather photons.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -157,7 +157,7 @@ pub struct VismapRun {
     /// iteration are still traced, so adaptive depths match the unsharded render.
     pub shard: (u32, u32),
     /// Continue from this state (`--resume`).
-    pub resume: Option<crate::checkpoint::RenderState>,
+    pub resume: Option<crate::render::checkpoint::RenderState>,
     /// Write checkpoints here, with this fingerprint (`--checkpoint`).
     pub checkpoint: Option<(std::path::PathBuf, u64)>,
 }
@@ -317,7 +317,7 @@ fn render_in_pool(
             b.inc(1);
         }
         if let Some((path, fingerprint)) = &run.checkpoint
-            && last_checkpoint.elapsed().as_secs_f64() >= crate::render::CHECKPOINT_INTERVAL_S
+            && last_checkpoint.elapsed().as_secs_f64() >= crate::render::driver::CHECKPOINT_INTERVAL_S
         {
             write_state(
                 path,
@@ -332,7 +332,7 @@ fn render_in_pool(
             );
             last_checkpoint = Instant::now();
         }
-        if crate::interrupt::requested() {
+        if crate::render::interrupt::requested() {
             interrupted = true;
             break;
         }
@@ -515,7 +515,7 @@ fn write_state(
     depth_count: &[u32],
     radius_scales: Option<&[f32]>,
 ) {
-    let state = crate::checkpoint::RenderState {
+    let state = crate::render::checkpoint::RenderState {
         film: film.clone(),
         done,
         next,
@@ -524,7 +524,7 @@ fn write_state(
         depth_count: depth_count.to_vec(),
         radius_scales: radius_scales.map_or_else(Vec::new, <[f32]>::to_vec),
     };
-    crate::checkpoint::save(path, fingerprint, &state);
+    crate::render::checkpoint::save(path, fingerprint, &state);
 }
 
 /// L^I of one visibility point by photon class.

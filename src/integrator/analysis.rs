@@ -6,8 +6,8 @@ use std::collections::BTreeSet;
 
 use quasar_materials::Material;
 
-use crate::light::Light;
-use crate::scene::Scene;
+use crate::core::light::Light;
+use crate::core::scene::Scene;
 
 /// Non-uniformity kappa (at 45 degrees incidence) above which a material counts as a narrow
 /// lobe: its photon density estimates would be noisy, so gathering should move elsewhere

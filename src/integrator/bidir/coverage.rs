@@ -18,8 +18,8 @@ use quasar_materials::Frame;
 
 use super::photon_pass::{MAX_PLANE_DISTANCE, MIN_NORMAL_COS};
 use super::visibility_point::VisibilityPoint;
-use crate::geometry::Ray;
-use crate::scene::Scene;
+use crate::core::geometry::Ray;
+use crate::core::scene::Scene;
 
 /// Probe points per disk.
 pub const PROBES: usize = 16;
@@ -80,7 +80,7 @@ pub fn disk_coverage(scene: &Scene, vp: &VisibilityPoint, r: f32, r_caustic: f32
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::integrator::layers::PathClass;
+    use crate::film::PathClass;
     use quasar_importers::ImportOptions;
     use quasar_importers::toml_scene::parse_toml_scene;
     use quasar_materials::Bsdf;

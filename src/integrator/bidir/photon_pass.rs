@@ -10,11 +10,11 @@ use rayon::prelude::*;
 use super::grid::VisibilityGrid;
 use super::quasi_cone::{QuasiCone, in_cone};
 use super::visibility_point::VisibilityPoint;
-use crate::geometry::Ray;
+use crate::core::geometry::Ray;
+use crate::core::sampling::Sampler;
+use crate::core::scene::Scene;
 use crate::integrator::pt::russian_roulette;
 use crate::integrator::scatter::scatter;
-use crate::sampling::Sampler;
-use crate::scene::Scene;
 
 /// Photons traced per parallel work item (the unit of the fixed-order reduction).
 const CHUNK: usize = 1024;

@@ -8,10 +8,10 @@ use std::path::Path;
 use anyhow::{Result, bail};
 use quasar_importers::SceneDesc;
 
-use crate::compare::rel_mse;
-use crate::job::{JobOverrides, render_desc};
-use crate::method::BidirectionalOptions;
-use crate::plot::{Canvas, PLOT_COLOURS};
+use crate::integrator::method::BidirectionalOptions;
+use crate::render::job::{JobOverrides, render_desc};
+use crate::tools::compare::rel_mse;
+use crate::tools::plot::{Canvas, PLOT_COLOURS};
 
 /// One method configuration of a comparison, parsed from `name[:option]`.
 #[derive(Clone, Debug, PartialEq)]

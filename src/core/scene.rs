@@ -9,8 +9,8 @@ use quasar_materials::spectrum::SampledWavelengths;
 use quasar_materials::{Bsdf, Frame, Material, NonUniformity};
 use rayon::prelude::*;
 
-use crate::geometry::{Accel, Hit, NONE, Ray, TriangleGeom, TriangleInfo};
-use crate::light::{Emission, Light, LightSampler};
+use crate::core::geometry::{Accel, Hit, NONE, Ray, TriangleGeom, TriangleInfo};
+use crate::core::light::{Emission, Light, LightSampler};
 
 /// Error compiling a scene description.
 #[derive(Debug, thiserror::Error)]
@@ -66,13 +66,13 @@ impl SurfaceInteraction {
 
     /// A ray leaving the surface in direction `w`, offset off the surface to the side of `w`.
     pub fn spawn_ray(&self, w: Vec3) -> Ray {
-        Ray::new(crate::geometry::offset_origin(self.p, self.p_err, self.ng, w), w)
+        Ray::new(crate::core::geometry::offset_origin(self.p, self.p_err, self.ng, w), w)
     }
 
     /// A shadow ray towards a point at distance `dist` in direction `w` (stops just short of it;
     /// `dist` = infinity for distant lights).
     pub fn spawn_shadow_ray(&self, w: Vec3, dist: f32) -> Ray {
-        let o = crate::geometry::offset_origin(self.p, self.p_err, self.ng, w);
+        let o = crate::core::geometry::offset_origin(self.p, self.p_err, self.ng, w);
         let mut r = Ray::new(o, w);
         if dist.is_finite() {
             r.t_max = (dist * (1.0 - 1e-4)).max(0.0);
@@ -298,7 +298,7 @@ impl Scene {
                     spectrum: spectrum.clone(),
                     scale: *scale,
                     scene_radius: radius,
-                    map: map.as_ref().map(|m| std::sync::Arc::new(crate::env_map::EnvMap::new(m))),
+                    map: map.as_ref().map(|m| std::sync::Arc::new(crate::core::env_map::EnvMap::new(m))),
                 },
             };
             lights.push(light);

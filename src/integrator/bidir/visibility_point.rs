@@ -7,13 +7,13 @@ use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
 use quasar_materials::{Bsdf, Frame, Lobe, NARROW_KAPPA, TransportMode};
 
 use super::quasi_cone::{QuasiCone, in_cone};
-use crate::geometry::Ray;
+use crate::core::geometry::Ray;
+use crate::core::sampling::Sampler;
+use crate::core::scene::{Scene, SurfaceInteraction};
+use crate::film::{LayeredRadiance, PathClass};
 use crate::integrator::direct::{PrevVertex, emitted_at_hit, escaped_radiance, sample_direct, sample_direct_outside};
-use crate::integrator::layers::{LayeredRadiance, PathClass};
 use crate::integrator::pt::{self, PathState, PtSettings};
 use crate::integrator::scatter::scatter;
-use crate::sampling::Sampler;
-use crate::scene::{Scene, SurfaceInteraction};
 
 /// Most visibility points one camera path may leave (a chain of quasi-specular gather vertices);
 /// the path continues as the path tracer after the last one.

@@ -9,7 +9,7 @@ use anyhow::{Context, Result};
 use quasar_importers::gltf::writer::{GltfWriter, Prim};
 use quasar_importers::{ImportOptions, import_scene};
 
-use crate::scene::Scene;
+use crate::core::scene::Scene;
 
 /// What [`run`] measured.
 #[derive(Clone, Debug)]

@@ -14,7 +14,7 @@ use quasar_materials::spectrum::SampledWavelengths;
 use quasar_materials::tabulated::{ALBEDO_TOLERANCE, BackFace, ScatterGrid, ScatterTable};
 use quasar_materials::{Material, TabulatedBsdf, TabulatedTable, TransportMode};
 
-use crate::plot::{Canvas, PLOT_COLOURS};
+use crate::tools::plot::{Canvas, PLOT_COLOURS};
 
 /// Largest number of wavelength columns printed (evenly chosen from the table's).
 const MAX_COLUMNS: usize = 8;

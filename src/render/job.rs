@@ -7,14 +7,14 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 use quasar_importers::{ImportOptions, SceneDesc, import_scene};
 
-use crate::camera::Camera;
+use crate::core::camera::Camera;
+use crate::core::scene::Scene;
 use crate::film::Channel;
 use crate::integrator::PtSettings;
-use crate::integrator::vismap::{self, GatherDepth, VismapRun};
-use crate::method::{BidirectionalOptions, Method, bidirectional_settings};
+use crate::integrator::bidir::{self, GatherDepth, VismapRun};
+use crate::integrator::method::{BidirectionalOptions, Method, bidirectional_settings};
 use crate::output::{ExrImage, write_exr_atomic, write_preview_png};
-use crate::render::{RenderOptions, RenderResult, render};
-use crate::scene::Scene;
+use crate::render::driver::{RenderOptions, RenderResult, render};
 
 /// Settings that override the scene file's `[render]` table (None = keep the scene's).
 #[derive(Clone, Debug, Default)]
@@ -126,7 +126,7 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
             v.iterations = 0;
             format!("{v:?}")
         });
-        crate::checkpoint::Fingerprint::of(&[
+        crate::render::checkpoint::Fingerprint::of(&[
             desc,
             &resolved.name(),
             &(width, height, seed, max_depth, shard, scene.masking),
@@ -137,7 +137,7 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     };
     let resume = match &ov.resume {
         Some(p) => {
-            let st = crate::checkpoint::read(p, fingerprint).map_err(anyhow::Error::msg)?;
+            let st = crate::render::checkpoint::read(p, fingerprint).map_err(anyhow::Error::msg)?;
             if (st.film.width, st.film.height) != (width, height) {
                 bail!("{}: checkpoint of a {}x{} render", p.display(), st.film.width, st.film.height);
             }
@@ -163,7 +163,7 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     let result = match bidir {
         Some(v) => {
             let run = VismapRun { seed, time_limit: time_s, target_error, progress, shard, resume, checkpoint };
-            let (result, stats) = vismap::render(&scene, &camera, &v, &run, threads);
+            let (result, stats) = bidir::render(&scene, &camera, &v, &run, threads);
             let depth = match v.depth {
                 GatherDepth::Fixed(d) => d.to_string(),
                 GatherDepth::Adaptive { max_depth, paper } => {

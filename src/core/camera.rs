@@ -3,7 +3,7 @@
 use glam::{Vec2, Vec3};
 use quasar_importers::{CameraDesc, FovAxis};
 
-use crate::geometry::Ray;
+use crate::core::geometry::Ray;
 
 /// A pinhole camera: image row 0 at the top, image right = forward x up.
 #[derive(Clone, Copy, Debug)]

@@ -15,8 +15,8 @@ use std::fmt::Write as _;
 use std::io::{Read, Write};
 use std::path::Path;
 
+use crate::core::sampling::mix64;
 use crate::film::{Film, N_LAYERS, N_QUANTITIES, PixelSum};
-use crate::sampling::mix64;
 
 const MAGIC: &[u8; 8] = b"QSRCKPT2";
 

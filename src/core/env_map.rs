@@ -18,7 +18,7 @@ use quasar_materials::spectrum::color::srgb_luminance;
 use quasar_materials::spectrum::rgb_uplift::{RgbToSpectrumTable, SigmoidPolynomial};
 use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum, StandardIlluminant, cie};
 
-use crate::sampling::Distribution1D;
+use crate::core::sampling::Distribution1D;
 
 /// One texel: a light colour as the uplift of rgb / max(rgb) times max(rgb).
 #[derive(Clone, Copy, Debug)]
@@ -175,7 +175,7 @@ impl EnvMap {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sampling::Sampler;
+    use crate::core::sampling::Sampler;
 
     fn map(w: usize, h: usize, f: impl Fn(usize, usize) -> [f32; 3]) -> EnvMap {
         let texels = (0..w * h).map(|i| f(i % w, i / w)).collect();
@@ -237,8 +237,8 @@ mod tests {
         // integral of the density over the sphere (uniform sphere samples)
         let mut i = 0.0f64;
         for _ in 0..n {
-            let d = crate::sampling::uniform_sphere(s.get_2d());
-            i += m.pdf(d) as f64 / crate::sampling::UNIFORM_SPHERE_PDF as f64;
+            let d = crate::core::sampling::uniform_sphere(s.get_2d());
+            i += m.pdf(d) as f64 / crate::core::sampling::UNIFORM_SPHERE_PDF as f64;
         }
         assert!((i / n as f64 - 1.0).abs() < 0.02, "{}", i / n as f64);
     }

@@ -80,7 +80,7 @@ mod tests {
 
     #[test]
     fn offset_points_never_reintersect_their_triangle() {
-        use crate::geometry::TriangleGeom;
+        use crate::core::geometry::TriangleGeom;
         use glam::Vec3A;
         // A tilted triangle far from the origin; rays leaving each hit point along the
         // reflected direction must not hit the same triangle again.

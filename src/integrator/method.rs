@@ -3,9 +3,9 @@
 
 use anyhow::{Result, bail};
 
-use crate::analysis::SceneAnalysis;
-use crate::integrator::vismap::{GatherDepth, MAX_ADAPTIVE_DEPTH, VismapSettings};
-use crate::scene::Scene;
+use crate::core::scene::Scene;
+use crate::integrator::analysis::SceneAnalysis;
+use crate::integrator::bidir::{GatherDepth, MAX_ADAPTIVE_DEPTH, VismapSettings};
 
 /// Integration methods the renderer offers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

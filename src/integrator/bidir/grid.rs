@@ -18,7 +18,7 @@ fn hash_cell(c: IVec3) -> u64 {
     let h = (c.x as u32 as u64).wrapping_mul(73_856_093)
         ^ (c.y as u32 as u64).wrapping_mul(19_349_663)
         ^ (c.z as u32 as u64).wrapping_mul(83_492_791);
-    crate::sampling::mix64(h)
+    crate::core::sampling::mix64(h)
 }
 
 /// The largest number of cells one point may be entered in, per axis (keeps outliers with huge
@@ -109,7 +109,7 @@ impl VisibilityGrid {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sampling::Sampler;
+    use crate::core::sampling::Sampler;
 
     #[test]
     fn every_point_within_its_radius_is_a_candidate() {

@@ -1,0 +1,13 @@
+//! Tools built on the renderer: image comparison and the block z-test, merging shards,
+//! convergence benchmarks and plots, BSDF reports, the material library generator, import
+//! benchmarks and the Mitsuba 3 export of the cross-check.
+
+pub mod bsdf_report;
+pub mod compare;
+pub mod convergence;
+pub mod import_bench;
+pub mod material_library;
+pub mod merge;
+pub mod mitsuba_export;
+pub mod plot;
+pub mod ztest;
