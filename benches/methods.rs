@@ -10,8 +10,10 @@
 use std::path::Path;
 use std::time::Instant;
 
-use quasar::integrator::bidir::{self, GatherDepth, VismapRun, VismapSettings};
-use quasar::integrator::method::BidirectionalOptions;
+use quasar::integrator::bidir::passes::Bidirectional;
+use quasar::integrator::bidir::settings::{GatherDepth, VismapSettings};
+use quasar::integrator::bidir::{photon_pass, visibility_point};
+use quasar::render::driver::{self, DriverOptions};
 use quasar::render::job::{JobOverrides, load_scene, render_desc};
 use quasar::tools::convergence;
 
@@ -31,22 +33,16 @@ fn photon_throughput(scene_path: &str) {
                 depth: GatherDepth::Fixed(depth),
                 ..VismapSettings::default()
             };
-            let run = VismapRun {
-                seed: 1,
-                time_limit: None,
-                target_error: None,
-                progress: false,
-                shard: (0, 1),
-                resume: None,
-                checkpoint: None,
-            };
+            let mut method = Bidirectional::new(&scene, &camera, settings, 1, (0, 1));
+            let opts = DriverOptions { units: settings.iterations, threads: Some(threads), ..Default::default() };
             let t = Instant::now();
-            let (result, stats) = bidir::render(&scene, &camera, &settings, &run, threads);
+            let result = driver::run(&mut method, &scene, &camera, &opts).expect("render runs");
+            let stats = method.stats;
             let total = t.elapsed().as_secs_f64();
             let points = result.film.pixels.len();
-            let per_point = std::mem::size_of::<bidir::visibility_point::VisibilityPoint>()
-                + std::mem::size_of::<bidir::photon_pass::GatherRadii>()
-                + std::mem::size_of::<bidir::photon_pass::PhotonSums>()
+            let per_point = std::mem::size_of::<visibility_point::VisibilityPoint>()
+                + std::mem::size_of::<photon_pass::GatherRadii>()
+                + std::mem::size_of::<photon_pass::PhotonSums>()
                 + std::mem::size_of::<quasar::materials::spectrum::SampledWavelengths>();
             println!(
                 "{scene_path} {threads}t depth {depth}: {:.3} Mphotons/s, {:.3} M lookups/s (photon pass {:.2} s of {:.2} s); \
@@ -70,13 +66,8 @@ const METHODS: &str = "pt,vismap:0,vismap:1,adaptive,adaptive:paper,quasi,adapti
 fn equal_time(scene_path: &str, w: u32, h: u32, reference: &[f32], times: &[f64], target: f64) {
     let desc = load_scene(Path::new(scene_path)).expect("scene loads");
     let photons = (w * h * 4) as u64;
-    let base = JobOverrides {
-        width: Some(w),
-        height: Some(h),
-        seed: Some(1),
-        bidir: BidirectionalOptions { photons_per_iteration: Some(photons), ..Default::default() },
-        ..Default::default()
-    };
+    let base = JobOverrides { width: Some(w), height: Some(h), seed: Some(1), ..Default::default() }
+        .with_param("photons_per_iteration", photons);
     let methods = convergence::parse_methods(METHODS).unwrap();
     let points = convergence::run(&desc, &base, &methods, times, reference, |_| {}).unwrap();
     println!("\n{scene_path} ({w}x{h}, {photons} photons per iteration): relMSE vs seconds");
@@ -101,14 +92,11 @@ fn quasi_reference(scene_path: &str, w: u32, h: u32, iterations: u32, radius: f3
         height: Some(h),
         seed: Some(1000),
         method: Some("quasi".into()),
-        bidir: BidirectionalOptions {
-            iterations: Some(iterations),
-            photons_per_iteration: Some((w * h * 16) as u64),
-            radius: Some(radius),
-            ..Default::default()
-        },
         ..Default::default()
-    };
+    }
+    .with_param("iterations", iterations)
+    .with_param("photons_per_iteration", (w * h * 16) as u64)
+    .with_param("radius", radius);
     let y = render_desc(&desc, &ov, false).unwrap().image.channel("Y").unwrap().to_vec();
     println!(
         "{scene_path}: reference quasi {w}x{h} {iterations} iterations, radius {radius} in {:.1} s",

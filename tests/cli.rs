@@ -45,11 +45,18 @@ fn render_writes_an_exr() {
 }
 
 fn expect_failure(scene: &common::TempScene, needle: &str) {
+    expect_failure_with(scene, &[needle]);
+}
+
+/// A render of `scene` fails with every one of `needles` in its message, writing nothing.
+fn expect_failure_with(scene: &common::TempScene, needles: &[&str]) {
     let out = scene.dir.path().join("out.exr");
     let o = quasar().args(["render", "--quiet"]).arg(&scene.path).arg("-o").arg(&out).output().unwrap();
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(!o.status.success(), "expected failure, stderr: {stderr}");
-    assert!(stderr.contains(needle), "stderr should contain {needle:?}: {stderr}");
+    for needle in needles {
+        assert!(stderr.contains(needle), "stderr should contain {needle:?}: {stderr}");
+    }
     assert!(!out.exists(), "no output may be written on failure");
     // an existing output is left untouched
     std::fs::write(&out, b"previous").unwrap();
@@ -72,6 +79,35 @@ fn unknown_key_names_file_and_line() {
     let line = bad.lines().position(|l| l.starts_with("radiuss")).unwrap() + 1;
     let s = write_scene(&bad, &[]);
     expect_failure(&s, &format!("scene.toml:{line}"));
+}
+
+/// The `[render]` table's method and method parameters are validated by the method table when
+/// the render starts: errors name the file and line; a command-line flag the method does not
+/// read is refused, naming the methods it applies to.
+#[test]
+fn render_table_errors_name_file_and_line() {
+    let cases = [
+        ("method = \"path\"", "method =", "unknown method 'path'"),
+        ("method = \"quasi\"\ncone_deg = 120", "cone_deg", "cone_deg"),
+        ("method = \"vismap\"\nphotons_per_iteration = 0", "photons_per_iteration", "photons_per_iteration"),
+        ("method = \"quasi\"\nradius = -1", "radius", "positive length"),
+        ("conedeg = 10", "conedeg", "did you mean `cone_deg`?"),
+    ];
+    for (keys, line_needle, needle) in cases {
+        let bad = GOOD.replace("spp = 2\n", &format!("spp = 2\n{keys}\n"));
+        let line = bad.lines().position(|l| l.starts_with(line_needle)).unwrap() + 1;
+        let s = write_scene(&bad, &[]);
+        expect_failure_with(&s, &[&format!("scene.toml:{line}"), needle]);
+    }
+    // a scene-file key another method reads is not an error (a scene for `quasi` renders with
+    // `pt`); the same key as a flag is
+    let s = write_scene(&GOOD.replace("spp = 2\n", "spp = 2\ncone_deg = 10\n"), &[]);
+    let out = s.dir.path().join("pt.exr");
+    let st = quasar().args(["render", "--quiet", "--method", "pt"]).arg(&s.path).arg("-o").arg(&out).status().unwrap();
+    assert!(st.success());
+    let o = quasar().args(["render", "--quiet", "--method", "pt", "--cone", "10"]).arg(&s.path).output().unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && stderr.contains("does not apply to pt") && stderr.contains("quasi"), "{stderr}");
 }
 
 #[test]

@@ -6,7 +6,6 @@
 mod common;
 
 use common::{mean, rel_mse, render_file, write_scene};
-use quasar::integrator::method::BidirectionalOptions;
 use quasar::output::ExrImage;
 use quasar::render::job::JobOverrides;
 
@@ -14,19 +13,15 @@ use quasar::render::job::JobOverrides;
 fn every_method(w: u32, h: u32, seed: u64) -> Vec<(&'static str, JobOverrides)> {
     let base = JobOverrides { width: Some(w), height: Some(h), seed: Some(seed), ..Default::default() };
     let bidir = |method: &'static str, cone: Option<f32>| {
-        (
-            method,
-            JobOverrides {
-                method: Some(method.into()),
-                bidir: BidirectionalOptions {
-                    iterations: Some(4),
-                    photons_per_iteration: Some(2000),
-                    cone_deg: cone,
-                    ..Default::default()
-                },
-                ..base.clone()
-            },
-        )
+        (method, {
+            let ov = JobOverrides { method: Some(method.into()), ..base.clone() }
+                .with_param("iterations", 4u32)
+                .with_param("photons_per_iteration", 2000u32);
+            match cone {
+                Some(c) => ov.with_param("cone_deg", c),
+                None => ov,
+            }
+        })
     };
     vec![
         ("pt", JobOverrides { method: Some("pt".into()), spp: Some(8), ..base.clone() }),
@@ -382,9 +377,7 @@ emission = { spectrum = { constant = 1 }, scale = 5 }
         assert!(m > 0.0, "{name}: black");
         if name != "pt" {
             let ov = every_method(12, 10, 1).into_iter().find(|(n, _)| *n == name).unwrap().1;
-            let mut ov = ov;
-            ov.bidir.iterations = Some(128);
-            ov.bidir.photons_per_iteration = Some(20_000);
+            let ov = ov.with_param("iterations", 128u32).with_param("photons_per_iteration", 20_000u32);
             let m = mean(render_file(&s.path, &ov).image.channel("Y").unwrap());
             assert!((m - r).abs() < 0.1 * r, "{name}: mean {m} vs pt {r}");
         }

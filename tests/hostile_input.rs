@@ -9,7 +9,6 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::Path;
 
 use quasar::core::sampling::mix64;
-use quasar::integrator::method::BidirectionalOptions;
 use quasar::render::job::{JobOverrides, load_scene, render_desc};
 
 /// Pieces spliced into files: numbers at and beyond the limits, and structure.
@@ -88,20 +87,16 @@ fn mutate(text: &str, seed: u64) -> String {
 fn exercise(path: &Path) {
     let Ok(desc) = load_scene(path) else { return };
     for method in ["pt", "adaptive+quasi"] {
-        let ov = JobOverrides {
+        let ov0 = JobOverrides {
             width: Some(4),
             height: Some(3),
             spp: Some(1),
             seed: Some(1),
             threads: Some(1),
             method: Some(method.into()),
-            bidir: if method == "pt" {
-                BidirectionalOptions::default()
-            } else {
-                BidirectionalOptions { photons_per_iteration: Some(200), ..Default::default() }
-            },
             ..Default::default()
         };
+        let ov = if method == "pt" { ov0 } else { ov0.with_param("photons_per_iteration", 200u32) };
         if let Ok(out) = render_desc(&desc, &ov, false) {
             for c in out.image.channels.iter().filter(|c| c.name != "depth.Z") {
                 assert!(c.values.iter().all(|v| v.is_finite()), "{}: non-finite {}", path.display(), c.name);

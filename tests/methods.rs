@@ -10,13 +10,14 @@ use common::{
     ALL_QUANTITIES, assert_converges_from, bidir_ov, glossy_floor_scene, mean, pt_ov, rel_mse, render_file, shipped,
     write_scene,
 };
-use quasar::integrator::method::BidirectionalOptions;
 use quasar::render::job::{JobOutput, JobOverrides};
 
 fn method_ov(w: u32, h: u32, method: &str, cone: Option<f32>, iterations: u32) -> JobOverrides {
-    let mut ov = bidir_ov(w, h, method, iterations, 20_000, 7);
-    ov.bidir.cone_deg = cone;
-    ov
+    let ov = bidir_ov(w, h, method, iterations, 20_000, 7);
+    match cone {
+        Some(c) => ov.with_param("cone_deg", c),
+        None => ov,
+    }
 }
 
 /// Renders every method/cone combination at 16 and 256 iterations and checks that relMSE against
@@ -169,11 +170,7 @@ fn render_table_sets_the_bidirectional_methods() {
     assert_eq!(img.meta("iterations"), Some("3"));
     assert_eq!(img.meta("cone_deg"), Some("25"));
     assert_eq!(img.meta("photons_per_iteration"), Some("100"));
-    let ov = JobOverrides {
-        method: Some("vismap".into()),
-        bidir: BidirectionalOptions { iterations: Some(2), ..Default::default() },
-        ..Default::default()
-    };
+    let ov = JobOverrides { method: Some("vismap".into()), ..Default::default() }.with_param("iterations", 2u32);
     let img = render_file(&scene.path, &ov).image;
     assert_eq!(img.meta("method"), Some("vismap"));
     assert_eq!(img.meta("iterations"), Some("2"));

@@ -86,9 +86,9 @@ fn auto_at_default_settings_converges_on_the_shipped_scenes() {
             width: Some(32),
             height: Some(24),
             seed: Some(2),
-            bidir: quasar::integrator::method::BidirectionalOptions { iterations: Some(256), ..Default::default() },
             ..Default::default()
-        };
+        }
+        .with_param("iterations", 256u32);
         let img = render_file(&path, &ov);
         assert_eq!(img.image.meta("method"), Some("adaptive+quasi"), "{scene}");
         assert_converges(&format!("{scene} auto"), &img, &reference, &[Quantity::Beauty]);

@@ -8,7 +8,6 @@ mod common;
 use std::path::Path;
 
 use common::render_file;
-use quasar::integrator::method::BidirectionalOptions;
 use quasar::output::ExrImage;
 use quasar::render::job::JobOverrides;
 
@@ -23,13 +22,19 @@ fn ov(method: &str, shard: Option<(u32, u32)>) -> JobOverrides {
         spp: Some(8),
         seed: Some(17),
         method: Some(method.into()),
-        bidir: if method == "pt" {
-            BidirectionalOptions::default()
-        } else {
-            BidirectionalOptions { photons_per_iteration: Some(3000), ..Default::default() }
-        },
         shard,
         ..Default::default()
+    }
+    .with_bidir_photons(method, 3000)
+}
+
+trait Photons {
+    fn with_bidir_photons(self, method: &str, n: u32) -> Self;
+}
+
+impl Photons for JobOverrides {
+    fn with_bidir_photons(self, method: &str, n: u32) -> Self {
+        if method == "pt" { self } else { self.with_param("photons_per_iteration", n) }
     }
 }
 

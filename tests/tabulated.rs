@@ -9,7 +9,6 @@ use std::path::Path;
 
 use common::{glossy_floor_scene, mean, rel_mse, render_file, write_scene};
 use quasar::importers::bsdf_file::to_toml;
-use quasar::integrator::method::BidirectionalOptions;
 use quasar::materials::spectrum::Spectrum;
 use quasar::materials::tabulated::generate::{Tabulation, material_fn};
 use quasar::materials::{ConductorFresnel, Material};
@@ -30,12 +29,8 @@ fn table_text() -> String {
 }
 
 fn ov(method: &str, seed: u64, spp: u32) -> JobOverrides {
-    let bidir = if method == "pt" {
-        BidirectionalOptions::default()
-    } else {
-        BidirectionalOptions { iterations: Some(spp), photons_per_iteration: Some(20_000), ..Default::default() }
-    };
-    JobOverrides { seed: Some(seed), spp: Some(spp), method: Some(method.into()), bidir, ..Default::default() }
+    let ov = JobOverrides { seed: Some(seed), spp: Some(spp), method: Some(method.into()), ..Default::default() };
+    if method == "pt" { ov } else { ov.with_param("iterations", spp).with_param("photons_per_iteration", 20_000u32) }
 }
 
 fn y(path: &Path, o: &JobOverrides) -> Vec<f32> {

@@ -12,9 +12,7 @@ use common::{
 use quasar::render::job::{JobOutput, JobOverrides};
 
 fn vismap_ov(w: u32, h: u32, iterations: u32, depth: u32) -> JobOverrides {
-    let mut ov = bidir_ov(w, h, "vismap", iterations, 20_000, 5);
-    ov.bidir.gather_depth = Some(depth);
-    ov
+    bidir_ov(w, h, "vismap", iterations, 20_000, 5).with_param("gather_depth", depth)
 }
 
 /// Renders vismap at gather depth `depth` for 16 and `many` iterations: relMSE against the `pt`
@@ -106,9 +104,8 @@ fn pt_and_vismap(scene: &common::TempScene, spp: u32, photons: u64, label: &str)
     let vm: Vec<JobOutput> = [0, 1]
         .iter()
         .map(|&depth| {
-            let mut ov = vismap_ov(32, 24, 256, depth);
+            let mut ov = vismap_ov(32, 24, 256, depth).with_param("photons_per_iteration", photons);
             ov.seed = Some(8);
-            ov.bidir.photons_per_iteration = Some(photons);
             render_file(&scene.path, &ov)
         })
         .collect();

@@ -7,7 +7,6 @@ use std::path::Path;
 use libfuzzer_sys::fuzz_target;
 use quasar::importers::{ImportOptions, parse_toml_scene};
 use quasar::render::job::{JobOverrides, render_desc};
-use quasar::integrator::method::BidirectionalOptions;
 
 fuzz_target!(|data: &[u8]| {
     let Ok(text) = std::str::from_utf8(data) else { return };
@@ -18,19 +17,17 @@ fuzz_target!(|data: &[u8]| {
         return; // valid but too slow to render per input
     }
     for method in ["pt", "adaptive+quasi"] {
-        let ov = JobOverrides {
+        let mut ov = JobOverrides {
             width: Some(2),
             height: Some(2),
             spp: Some(1),
             threads: Some(1),
             method: Some(method.into()),
-            bidir: if method == "pt" {
-                BidirectionalOptions::default()
-            } else {
-                BidirectionalOptions { iterations: Some(1), photons_per_iteration: Some(64), ..Default::default() }
-            },
             ..Default::default()
         };
+        if method != "pt" {
+            ov = ov.with_param("iterations", 1u32).with_param("photons_per_iteration", 64u64);
+        }
         if let Ok(out) = render_desc(&desc, &ov, false) {
             for c in out.image.channels.iter().filter(|c| c.name != "depth.Z") {
                 assert!(c.values.iter().all(|v| v.is_finite()), "non-finite {}", c.name);

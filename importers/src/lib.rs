@@ -21,7 +21,7 @@ pub mod texture_desc;
 pub mod toml_scene;
 mod transform;
 
-pub use error::{ErrorPlace, ImportError, ImportErrorKind};
+pub use error::{ErrorPlace, ImportError, ImportErrorKind, did_you_mean};
 pub use glob::glob_match;
 pub use gltf::{GltfImporter, import_gltf};
 pub use obj::{ObjImporter, ObjMaterials, import_obj};

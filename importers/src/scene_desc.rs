@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use glam::{Vec2, Vec3};
 use quasar_materials::{Material, spectrum::Spectrum};
 
+use crate::error::ErrorPlace;
 pub use crate::texture_desc::{MaterialTextures, TextureDesc, TextureRef, TextureWrap};
 
 /// Where a scene element came from, for error messages and `quasar info`.
@@ -208,35 +209,85 @@ pub struct RenderSettings {
     pub time_s: Option<f64>,
     /// Seed of the random streams.
     pub seed: u64,
-    /// Maximum path depth (None = unbounded, Russian roulette ends paths).
-    pub max_depth: Option<u32>,
-    /// Integration method name ("pt", "auto", ...).
+    /// Integration method name ("pt", "auto", ...), validated by the renderer's method table.
     pub method: String,
+    /// Where `method` was given (for errors).
+    pub method_place: Option<ErrorPlace>,
     /// Stop at this estimated RMS relative error of the image.
     pub target_error: Option<f64>,
-    /// Settings of the bidirectional methods (used only when one of them runs).
-    pub bidirectional: BidirectionalSettings,
+    /// The methods' parameters (every other `[render]` key), validated by the method that reads
+    /// them.
+    pub params: Vec<RenderParam>,
+    /// Metres per unit of the file the `[render]` table came from (its lengths' unit).
+    pub unit: f32,
     /// Microfacet masking-shadowing form of every GGX material (`masking`).
     pub masking: quasar_materials::Masking,
 }
 
-/// `[render]` settings of the bidirectional methods (None: the method's default).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct BidirectionalSettings {
-    /// Iterations (default: `spp`).
-    pub iterations: Option<u32>,
-    /// Photons per iteration.
-    pub photons_per_iteration: Option<u64>,
-    /// Fixed gather depth (`vismap`, `quasi`).
-    pub gather_depth: Option<u32>,
-    /// Deepest depth of the adaptive methods.
-    pub max_gather_depth: Option<u32>,
-    /// Quasi-specular cone half-angle in degrees.
-    pub cone_deg: Option<f32>,
-    /// Initial gather radius in metres.
-    pub radius: Option<f32>,
-    /// Radius reduction alpha.
-    pub alpha: Option<f32>,
+/// A value of a method parameter as written in a scene file or on the command line.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ParamValue {
+    /// An integer.
+    Int(i128),
+    /// A real number.
+    Float(f64),
+    /// A boolean.
+    Bool(bool),
+    /// A string.
+    Str(String),
+}
+
+impl std::fmt::Display for ParamValue {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Int(i) => write!(f, "{i}"),
+            Self::Float(x) => write!(f, "{x}"),
+            Self::Bool(b) => write!(f, "{b}"),
+            Self::Str(s) => write!(f, "{s:?}"),
+        }
+    }
+}
+
+impl From<i128> for ParamValue {
+    fn from(v: i128) -> Self {
+        Self::Int(v)
+    }
+}
+impl From<u32> for ParamValue {
+    fn from(v: u32) -> Self {
+        Self::Int(v.into())
+    }
+}
+impl From<u64> for ParamValue {
+    fn from(v: u64) -> Self {
+        Self::Int(v.into())
+    }
+}
+impl From<f64> for ParamValue {
+    fn from(v: f64) -> Self {
+        Self::Float(v)
+    }
+}
+impl From<f32> for ParamValue {
+    fn from(v: f32) -> Self {
+        Self::Float(v.into())
+    }
+}
+impl From<bool> for ParamValue {
+    fn from(v: bool) -> Self {
+        Self::Bool(v)
+    }
+}
+
+/// One method parameter of a scene file's `[render]` table, with its place.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderParam {
+    /// The key.
+    pub key: String,
+    /// The value.
+    pub value: ParamValue,
+    /// File, line and column of the key.
+    pub place: ErrorPlace,
 }
 
 impl Default for RenderSettings {
@@ -247,10 +298,11 @@ impl Default for RenderSettings {
             spp: 64,
             time_s: None,
             seed: 0,
-            max_depth: None,
             method: "auto".into(),
+            method_place: None,
             target_error: None,
-            bidirectional: BidirectionalSettings::default(),
+            params: Vec::new(),
+            unit: 1.0,
             masking: quasar_materials::Masking::HeightCorrelated,
         }
     }

@@ -257,14 +257,14 @@ fn override_errors() {
 #[test]
 fn render_camera_and_light_errors() {
     // (appended text, text on the line the error must name, text the message must contain)
-    let cases: [(&str, &str, &str); 12] = [
+    // (method names and method parameters are the renderer's: tests/cli.rs)
+    let cases: [(&str, &str, &str); 11] = [
         ("[render]\nwidth = 0\n", "width", "1..=65536"),
         ("[render]\nheight = 70000\n", "height", "1..=65536"),
         ("[render]\nwidth = 64.0\n", "width", "must be an integer"),
         ("[render]\nspp = 0\n", "spp", "spp"),
         ("[render]\ntime = -1\n", "time", "> 0"),
         ("[render]\nseed = -3\n", "seed", "seed"),
-        ("[render]\nmethod = \"path\"\n", "method", "not one of"),
         ("[[light]]\ntype = \"point\"\n", "type = \"point\"", "missing key `position`"),
         ("[[light]]\ntype = \"spot\"\nposition = [0, 0, 0]\ntarget = [0, 0, 0]\ncone_deg = 10\n", "target", "differ"),
         (

@@ -4,9 +4,16 @@ mod common;
 
 use common::{BASE, Files, ok};
 use glam::Vec3;
-use quasar_importers::{FovAxis, ImportOptions, LightDesc, MeshDesc, SceneDesc, import_scene, parse_toml_scene};
+use quasar_importers::{
+    FovAxis, ImportOptions, LightDesc, MeshDesc, ParamValue, RenderSettings, SceneDesc, import_scene, parse_toml_scene,
+};
 use quasar_materials::spectrum::{Spectrum, StandardIlluminant};
 use quasar_materials::{ConductorFresnel, Ior, Material};
+
+/// The value of `[render]` key `key` as the importer kept it.
+fn param<'a>(r: &'a RenderSettings, key: &str) -> Option<&'a ParamValue> {
+    r.params.iter().find(|p| p.key == key).map(|p| &p.value)
+}
 
 fn close(a: Vec3, b: Vec3) -> bool {
     (a - b).length() <= 1e-5 * (1.0 + b.length())
@@ -59,7 +66,8 @@ method = "pt"
         &[],
     );
     let r = &s.render;
-    assert_eq!((r.width, r.height, r.spp, r.time_s, r.seed, r.max_depth), (320, 200, 16, Some(2.5), 42, Some(7)));
+    assert_eq!((r.width, r.height, r.spp, r.time_s, r.seed), (320, 200, 16, Some(2.5), 42));
+    assert_eq!(param(r, "max_depth"), Some(&ParamValue::Int(7)));
     assert_eq!(r.method, "pt");
     assert_eq!(s.camera.fov_deg, 55.0);
     assert_eq!(s.camera.fov_axis, FovAxis::X);
@@ -74,10 +82,19 @@ method = "pt"
         ),
         &[],
     );
-    let b = &s.render.bidirectional;
-    assert_eq!((b.iterations, b.photons_per_iteration, b.max_gather_depth), (Some(12), Some(5000), Some(3)));
-    assert_eq!((b.cone_deg, b.alpha, b.gather_depth), (Some(20.0), Some(0.5), None));
-    assert!((b.radius.unwrap() - 0.02).abs() < 1e-7);
+    // the method parameters are kept as written (validated by the renderer's method table), with
+    // the file's unit for lengths and the place of each key
+    let r = &s.render;
+    assert_eq!(param(r, "iterations"), Some(&ParamValue::Int(12)));
+    assert_eq!(param(r, "photons_per_iteration"), Some(&ParamValue::Int(5000)));
+    assert_eq!(param(r, "max_gather_depth"), Some(&ParamValue::Int(3)));
+    assert_eq!(param(r, "cone_deg"), Some(&ParamValue::Int(20)));
+    assert_eq!(param(r, "alpha"), Some(&ParamValue::Float(0.5)));
+    assert_eq!(param(r, "radius"), Some(&ParamValue::Int(2)));
+    assert_eq!(param(r, "gather_depth"), None);
+    assert!((r.unit - 0.01).abs() < 1e-9);
+    let place = &r.params.iter().find(|p| p.key == "cone_deg").unwrap().place;
+    assert!(place.to_string().contains(":7:"), "{place}");
     assert_eq!(s.render.target_error, Some(0.02f32 as f64));
     // defaults
     let s = ok(BASE, &[]);

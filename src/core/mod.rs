@@ -1,6 +1,7 @@
 //! The render-time scene: geometry and its BVH, camera, lights (with environment maps) and the
 //! random numbers and warps every integrator samples with. Depends on nothing else of the crate.
 
+pub mod bytes;
 pub mod camera;
 pub mod env_map;
 pub mod geometry;

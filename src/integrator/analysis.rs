@@ -6,6 +6,9 @@ use std::collections::BTreeSet;
 
 use quasar_materials::Material;
 
+use super::bidir::methods::ADAPTIVE_QUASI;
+use super::entry::MethodEntry;
+use super::pt::PT;
 use crate::core::light::Light;
 use crate::core::scene::Scene;
 
@@ -69,8 +72,8 @@ impl SceneAnalysis {
     /// The method `auto` runs: `pt` when nothing is narrow or specular (path tracing handles
     /// diffuse and moderately glossy scenes best); otherwise `adaptive+quasi`, which gathers where
     /// surfaces are diffuse and traces narrow lobes through.
-    pub fn auto_method(&self) -> &'static str {
-        if self.narrow.is_empty() && !self.caustic_paths { "pt" } else { "adaptive+quasi" }
+    pub fn auto_method(&self) -> &'static MethodEntry {
+        if self.narrow.is_empty() && !self.caustic_paths { &PT } else { &ADAPTIVE_QUASI }
     }
 
     /// A human-readable report (for `quasar info`).
@@ -94,7 +97,7 @@ impl SceneAnalysis {
         );
         let [a, p, sp, d, e] = self.lights;
         s += &format!("lights: {a} emissive triangles, {p} point, {sp} spot, {d} directional, {e} environment\n");
-        s += &format!("auto method: {}\n", self.auto_method());
+        s += &format!("auto method: {}\n", self.auto_method().name);
         s
     }
 }

@@ -6,6 +6,9 @@ use quasar_materials::TransportMode;
 use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
 
 use super::direct::{PrevVertex, emitted_at_hit, escaped_radiance, sample_direct};
+use super::entry::{Built, MethodEntry};
+use super::params::{ParamKind, ParamSpec};
+use super::per_pixel::PerPixel;
 use super::scatter::scatter;
 use crate::core::geometry::Ray;
 use crate::core::sampling::Sampler;
@@ -24,6 +27,37 @@ pub struct PtSettings {
 impl Default for PtSettings {
     fn default() -> Self {
         Self { max_depth: None, rr_depth: 3 }
+    }
+}
+
+/// `max_depth`: the largest number of scattering events of a path.
+pub static MAX_DEPTH: ParamSpec = ParamSpec {
+    key: "max_depth",
+    flag: "max-depth",
+    kind: ParamKind::Int { min: 0, max: 1_000_000 },
+    default: "unbounded (Russian roulette ends paths)",
+    doc: "pt: maximum number of scattering events per path",
+};
+
+/// The method table's row of `pt`.
+pub static PT: MethodEntry = MethodEntry {
+    name: "pt",
+    summary: "reference path tracer: next-event estimation + MIS (power heuristic), Russian roulette, unbounded depth",
+    params: &[&MAX_DEPTH],
+    variant: None,
+    build: |b, r| {
+        let settings = PtSettings { max_depth: r.int(&MAX_DEPTH)?.map(|d| d as u32), ..PtSettings::default() };
+        Ok(Built { method: Box::new(PerPixel::new(b.scene, b.camera, settings, b.seed, b.shard)), units: b.spp })
+    },
+};
+
+impl super::per_pixel::PixelEstimator for PtSettings {
+    fn radiance(&self, scene: &Scene, ray: Ray, wl: &mut SampledWavelengths, sampler: &mut Sampler) -> LayeredRadiance {
+        radiance(scene, ray, wl, sampler, self)
+    }
+
+    fn header(&self) -> Vec<(String, String)> {
+        vec![("max_depth".into(), self.max_depth.map_or("unbounded".into(), |d| d.to_string()))]
     }
 }
 

@@ -46,11 +46,6 @@ impl ExrImage {
     }
 }
 
-fn temp_path(path: &Path) -> PathBuf {
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "out.exr".into());
-    path.with_file_name(format!(".{name}.tmp{}", std::process::id()))
-}
-
 /// Writes `img` to `path` via a temporary file and a rename, so `path` is either the old file or
 /// the complete new one, never a truncated file.
 pub fn write_exr_atomic(img: &ExrImage, path: &Path) -> std::result::Result<(), ExrError> {
@@ -76,15 +71,8 @@ pub fn write_exr_atomic(img: &ExrImage, path: &Path) -> std::result::Result<(), 
     attrs.other.insert(Text::from("quasar"), AttributeValue::Text(Text::from(meta.as_str())));
     let layer = Layer::new((img.width, img.height), attrs, Encoding::SMALL_LOSSLESS, AnyChannels::sort(channels));
     let image = Image::from_layer(layer);
-    let tmp = temp_path(path);
-    if let Err(e) = image.write().to_file(&tmp) {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(err(format!("writing {}: {e}", tmp.display())));
-    }
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        err(format!("renaming {} into place: {e}", tmp.display()))
-    })
+    super::write_atomic(path, |tmp| image.write().to_file(tmp).map_err(|e| e.to_string()))
+        .map_err(|e| ExrError::Io { path: e.path, msg: e.msg })
 }
 
 /// Reads a single-part EXR written by quasar (or any flat EXR) into named f32 channels.

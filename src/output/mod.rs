@@ -1,7 +1,9 @@
 //! Writing images: multi-layer OpenEXR (atomic) and tone-mapped PNG previews.
 
+pub mod atomic;
 pub mod exr_file;
 pub mod preview;
 
+pub use atomic::{WriteError, write_atomic, write_atomic_bytes, write_png_atomic};
 pub use exr_file::{ExrImage, read_exr, write_exr_atomic};
 pub use preview::write_preview_png;

@@ -21,7 +21,5 @@ pub fn write_preview_png(path: &Path, width: u32, height: u32, rgb: [&[f32]; 3],
         }
     }
     let img = image::RgbImage::from_raw(width, height, buf).ok_or("preview buffer size mismatch")?;
-    let tmp = path.with_extension("png.tmp");
-    img.save_with_format(&tmp, image::ImageFormat::Png).map_err(|e| format!("{}: {e}", path.display()))?;
-    std::fs::rename(&tmp, path).map_err(|e| format!("{}: {e}", path.display()))
+    super::write_png_atomic(path, &img).map_err(|e| e.to_string())
 }

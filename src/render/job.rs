@@ -7,14 +7,13 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 use quasar_importers::{ImportOptions, SceneDesc, import_scene};
 
+use super::driver::{self, DriverOptions, RenderResult};
 use crate::core::camera::Camera;
 use crate::core::scene::Scene;
 use crate::film::Channel;
-use crate::integrator::PtSettings;
-use crate::integrator::bidir::{self, GatherDepth, VismapRun};
-use crate::integrator::method::{BidirectionalOptions, Method, bidirectional_settings};
+use crate::integrator::method::{Build, Built, MethodChoice, all_params, instantiate};
+use crate::integrator::params::MethodParams;
 use crate::output::{ExrImage, write_exr_atomic, write_preview_png};
-use crate::render::driver::{RenderOptions, RenderResult, render};
 
 /// Settings that override the scene file's `[render]` table (None = keep the scene's).
 #[derive(Clone, Debug, Default)]
@@ -34,12 +33,11 @@ pub struct JobOverrides {
     pub seed: Option<u64>,
     /// Threads.
     pub threads: Option<usize>,
-    /// Maximum path depth.
-    pub max_depth: Option<u32>,
     /// Method name.
     pub method: Option<String>,
-    /// Settings of the bidirectional methods.
-    pub bidir: BidirectionalOptions,
+    /// Method parameters (keys of the method table: `cone_deg`, `iterations`, `max_depth`, ...),
+    /// over the scene file's.
+    pub params: MethodParams,
     /// Render share k of n of the samples / iterations (`--shard K/N`, merged by `quasar merge`).
     pub shard: Option<(u32, u32)>,
     /// Write checkpoints to this file.
@@ -48,6 +46,14 @@ pub struct JobOverrides {
     pub resume: Option<PathBuf>,
     /// Microfacet masking-shadowing form (default: the scene's, height-correlated).
     pub masking: Option<quasar_materials::Masking>,
+}
+
+impl JobOverrides {
+    /// These overrides with method parameter `key` set (a key of the method table).
+    pub fn with_param(mut self, key: &str, value: impl Into<crate::integrator::params::ParamValue>) -> Self {
+        self.params.set(key, value);
+        self
+    }
 }
 
 /// A finished render with everything needed to write it.
@@ -63,13 +69,10 @@ pub fn load_scene(path: &Path) -> Result<SceneDesc> {
     load_scene_with(path, &ImportOptions::default())
 }
 
-/// Loads a scene file through the importer registry and prints its import warnings to stderr.
+/// Loads a scene file through the importer registry (its import warnings are in
+/// `SceneDesc::warnings`).
 pub fn load_scene_with(path: &Path, opts: &ImportOptions) -> Result<SceneDesc> {
-    let desc = import_scene(path, opts).map_err(|e| anyhow::anyhow!("{e}"))?;
-    for w in &desc.warnings {
-        eprintln!("warning: {w}");
-    }
-    Ok(desc)
+    import_scene(path, opts).map_err(|e| anyhow::anyhow!("{e}"))
 }
 
 /// Renders a scene description with overrides applied.
@@ -100,37 +103,38 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     // with a time budget or an error target, the sample (iteration) count is only a cap
     let open_ended = time_s.is_some() || target_error.is_some();
     let seed = ov.seed.unwrap_or(r.seed);
-    let max_depth = ov.max_depth.or(r.max_depth);
-    let method = Method::from_name(ov.method.as_deref().unwrap_or(&r.method))?;
+    let choice = match &ov.method {
+        Some(m) => MethodChoice::from_name(m).map_err(anyhow::Error::msg)?,
+        None => MethodChoice::from_name(&r.method).map_err(|e| match &r.method_place {
+            Some(p) => anyhow::anyhow!("{p}: {e}"),
+            None => anyhow::anyhow!(e),
+        })?,
+    };
+    let known: Vec<&str> = all_params().iter().map(|p| p.key).collect();
+    let params = ov.params.over_scene(&r.params, r.unit, &known).map_err(anyhow::Error::msg)?;
 
     let mut scene = Scene::compile(desc).context("compiling the scene")?;
     scene.masking = ov.masking.unwrap_or(r.masking);
     let camera = Camera::new(&desc.camera, width, height).with_context(|| desc.source.display().to_string())?;
-    let resolved = method.resolve(&scene);
-    let bidir = if resolved.is_bidirectional() {
-        // command-line options override the scene's `[render]` ones that apply to the method
-        let options = ov.bidir.or(&BidirectionalOptions::from_scene(&r.bidirectional).applicable_to(resolved));
-        Some(bidirectional_settings(resolved, &options, if open_ended { ov.spp.unwrap_or(u32::MAX / 2) } else { spp })?)
-    } else if ov.bidir.any() {
-        bail!(
-            "the bidirectional options (--iterations, --photons-per-iteration, --gather-depth, ...) do not apply to {}",
-            resolved.name()
-        );
-    } else {
-        None
+    let entry = choice.resolve(&scene);
+    let build = Build {
+        scene: &scene,
+        camera: &camera,
+        seed,
+        shard,
+        spp: if open_ended { ov.spp.unwrap_or(u32::MAX / 2) } else { spp },
     };
+    let Built { mut method, units } = instantiate(entry, &params, &build).map_err(anyhow::Error::msg)?;
     // what must match for a resume: the scene and every setting but the sample budget (hashed
     // only when checkpoints are used: it walks the whole scene description)
     let fingerprint = if ov.resume.is_some() || ov.checkpoint.is_some() {
-        let bidir_fp = bidir.map(|mut v| {
-            v.iterations = 0;
-            format!("{v:?}")
-        });
+        let mut budgetless = params.clone();
+        budgetless.remove("iterations");
         crate::render::checkpoint::Fingerprint::of(&[
             desc,
-            &resolved.name(),
-            &(width, height, seed, max_depth, shard, scene.masking),
-            &bidir_fp,
+            &entry.name,
+            &(width, height, seed, shard, scene.masking),
+            &budgetless.canonical(),
         ])
     } else {
         0
@@ -145,65 +149,29 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         }
         None => None,
     };
-    let checkpoint = ov.checkpoint.clone().map(|p| (p, fingerprint));
-    let opts = RenderOptions {
-        spp: if open_ended { ov.spp.unwrap_or(u32::MAX / 2) } else { spp },
+    let opts = DriverOptions {
+        // this shard's units: global indices shard_k + shard_n * j below the requested count
+        units: units.max(1).saturating_sub(shard.0).div_ceil(shard.1).max(1),
         time_limit: time_s,
         target_error,
-        shard,
-        seed,
         threads: ov.threads,
-        pt: PtSettings { max_depth, ..PtSettings::default() },
         progress,
-        resume: resume.clone(),
-        checkpoint: checkpoint.clone(),
+        resume,
+        checkpoint: ov.checkpoint.clone().map(|p| (p, fingerprint)),
     };
-    let threads = opts.threads.unwrap_or_else(rayon::current_num_threads).max(1);
-    let mut metadata = Vec::new();
-    let result = match bidir {
-        Some(v) => {
-            let run = VismapRun { seed, time_limit: time_s, target_error, progress, shard, resume, checkpoint };
-            let (result, stats) = bidir::render(&scene, &camera, &v, &run, threads);
-            let depth = match v.depth {
-                GatherDepth::Fixed(d) => d.to_string(),
-                GatherDepth::Adaptive { max_depth, paper } => {
-                    format!(
-                        "adaptive (0..={max_depth}, {})",
-                        if paper { "paper variant" } else { "earlier iterations" }
-                    )
-                }
-            };
-            metadata.extend([
-                ("iterations".to_string(), result.spp.to_string()),
-                (
-                    "photons_per_iteration".into(),
-                    v.photons_per_iteration.unwrap_or(width as u64 * height as u64).to_string(),
-                ),
-                ("photons".into(), stats.photons.to_string()),
-                ("gather_depth".into(), depth),
-                ("cone_deg".into(), v.cone_deg.map_or("none".into(), |c| c.to_string())),
-                (
-                    "radius".into(),
-                    v.radius.map_or(format!("auto ({} pixel footprints)", v.radius_pixels), |r| r.to_string()),
-                ),
-                ("caustic_radius_ratio".into(), v.caustic_ratio.to_string()),
-                ("alpha".into(), v.alpha.to_string()),
-            ]);
-            result
-        }
-        None => render(&scene, &camera, &opts),
-    };
+    let result = driver::run(method.as_mut(), &scene, &camera, &opts).map_err(anyhow::Error::msg)?;
+    drop(method);
     let mut channels = result.film.channels();
     channels.push(Channel { name: "depth.Z".into(), values: result.depth.clone() });
     channels.extend(result.extra.iter().cloned());
+    let unit_name = if entry.params.iter().any(|p| p.key == "iterations") { "iterations" } else { "spp" };
     let mut header = vec![
         ("software".into(), concat!("quasar ", env!("CARGO_PKG_VERSION")).to_string()),
         ("scene".into(), desc.source.display().to_string()),
-        ("method".into(), resolved.name().to_string()),
-        ("method_requested".into(), method.name().to_string()),
+        ("method".into(), entry.name.to_string()),
+        ("method_requested".into(), choice.name().to_string()),
         ("spp".into(), result.spp.to_string()),
         ("seed".into(), seed.to_string()),
-        ("max_depth".into(), max_depth.map_or("unbounded".into(), |d| d.to_string())),
         ("masking".into(), scene.masking.name().to_string()),
         ("width".into(), width.to_string()),
         ("height".into(), height.to_string()),
@@ -217,9 +185,11 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         ("threads".into(), result.threads.to_string()),
         ("render_time_s".into(), format!("{:.3}", result.seconds)),
     ];
-    header.extend(metadata);
-    let metadata = header;
-    let image = ExrImage { width: width as usize, height: height as usize, channels, metadata };
+    if unit_name == "iterations" {
+        header.push(("iterations".into(), result.spp.to_string()));
+    }
+    header.extend(result.header.iter().cloned());
+    let image = ExrImage { width: width as usize, height: height as usize, channels, metadata: header };
     Ok(JobOutput { image, result })
 }
 

@@ -250,3 +250,18 @@ pub fn check_finite(table: &TabulatedTable) -> Result<(), String> {
     }
     Ok(())
 }
+
+/// `quasar bsdf convert`: converts the Zemax/Radiant tabular `.bsdf` file `input` into the TOML
+/// format at `output` (written atomically) and returns the conversion's warnings.
+pub fn convert_zemax(input: &Path, output: &Path) -> anyhow::Result<Vec<String>> {
+    use quasar_importers::bsdf_file;
+    let c = bsdf_file::zemax::convert_zemax_bsdf(input)?;
+    quasar_materials::TabulatedTable::new(c.spec.clone())
+        .map_err(|e| anyhow::anyhow!("{}: the converted table is invalid: {e}", input.display()))?;
+    let source = input.file_name().map_or(String::new(), |n| n.to_string_lossy().into_owned());
+    let mut prov: Vec<(&str, &str)> = vec![("converted_from", &source), ("converter", "quasar bsdf convert")];
+    prov.extend(c.header.iter().map(|(k, v)| (k.as_str(), v.as_str())));
+    let text = bsdf_file::to_toml(&c.spec, "converted from a Zemax tabular BSDF file", &prov);
+    crate::output::write_atomic_bytes(output, text.as_bytes())?;
+    Ok(c.warnings)
+}

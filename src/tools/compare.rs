@@ -100,6 +100,21 @@ pub fn compare(img: &ExrImage, reference: &ExrImage, only: Option<&str>) -> Resu
     Ok(out)
 }
 
+/// `quasar compare`'s table of [`compare`]'s metrics.
+pub fn table(errors: &[LayerError]) -> String {
+    let mut s = format!(
+        "{:<12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12}\n",
+        "layer", "rmse", "relmse", "mean_rel", "max", "mean", "ref_mean"
+    );
+    for e in errors {
+        s += &format!(
+            "{:<12} {:>12.5e} {:>12.5e} {:>12.5e} {:>12.5e} {:>12.5e} {:>12.5e}\n",
+            e.layer, e.rmse, e.rel_mse, e.mean_rel_error, e.max_error, e.means.0, e.means.1
+        );
+    }
+    s
+}
+
 /// False colour of a signed relative difference: blue (image darker) through black (equal) to red
 /// (image brighter), saturating at +-`full_scale`.
 fn false_colour(rel: f64, full_scale: f64) -> [u8; 3] {
@@ -120,9 +135,7 @@ pub fn write_difference_png(img: &ExrImage, reference: &ExrImage, path: &Path) -
         buf.extend(false_colour(if rel.is_finite() { rel } else { 0.0 }, 1.0));
     }
     let png = image::RgbImage::from_raw(img.width as u32, img.height as u32, buf).ok_or("image size mismatch")?;
-    let tmp = path.with_extension("png.tmp");
-    png.save_with_format(&tmp, image::ImageFormat::Png).map_err(|e| format!("{}: {e}", path.display()))?;
-    std::fs::rename(&tmp, path).map_err(|e| format!("{}: {e}", path.display()))
+    crate::output::write_png_atomic(path, &png).map_err(|e| e.to_string())
 }
 
 #[cfg(test)]

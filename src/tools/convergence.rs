@@ -8,43 +8,58 @@ use std::path::Path;
 use anyhow::{Result, bail};
 use quasar_importers::SceneDesc;
 
-use crate::integrator::method::BidirectionalOptions;
+use crate::integrator::entry::MethodEntry;
+use crate::integrator::params::{MethodParams, ParamKind};
 use crate::render::job::{JobOverrides, render_desc};
 use crate::tools::compare::rel_mse;
 use crate::tools::plot::{Canvas, PLOT_COLOURS};
 
-/// One method configuration of a comparison, parsed from `name[:option]`.
+/// One method configuration of a comparison, parsed from `name[:value]`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MethodVariant {
     /// Label in tables and plots (the text it was parsed from).
     pub label: String,
-    /// Method name.
-    pub method: String,
-    /// Its bidirectional options.
-    pub bidir: BidirectionalOptions,
+    /// The method.
+    pub method: &'static MethodEntry,
+    /// Its parameters (the variant's `value` sets the method's variant parameter).
+    pub params: MethodParams,
 }
 
 impl MethodVariant {
-    /// Parses `pt`, `vismap[:DEPTH]`, `adaptive[:paper]`, `quasi[:CONE]`, `adaptive+quasi[:CONE]`.
+    /// Parses `name` or `name:value` (the method table's variant parameter of `name`:
+    /// `vismap:DEPTH`, `quasi:CONE`, `adaptive+quasi:CONE`, `adaptive:paper`).
     pub fn parse(s: &str) -> Result<Self> {
-        let (method, option) = s.split_once(':').map_or((s, None), |(m, o)| (m, Some(o)));
-        let mut bidir = BidirectionalOptions::default();
-        match (method, option) {
-            ("pt", None) | ("adaptive", None) | ("quasi", None) | ("adaptive+quasi", None) => {}
-            ("vismap", None) => bidir.gather_depth = Some(0),
-            ("vismap", Some(d)) => bidir.gather_depth = Some(d.parse().map_err(|_| bad(s))?),
-            ("adaptive", Some("paper")) => bidir.adaptive_paper = true,
-            ("quasi" | "adaptive+quasi", Some(c)) => bidir.cone_deg = Some(c.parse().map_err(|_| bad(s))?),
-            _ => return Err(bad(s)),
+        let (name, value) = s.split_once(':').map_or((s, None), |(m, o)| (m, Some(o)));
+        let method = crate::integrator::method::find(name).ok_or_else(|| bad(s))?;
+        let mut params = MethodParams::default();
+        if let Some(v) = value {
+            let spec = method.variant.ok_or_else(|| bad(s))?;
+            match spec.kind {
+                ParamKind::Int { .. } => params.set(spec.key, v.parse::<i128>().map_err(|_| bad(s))?),
+                ParamKind::Real { .. } | ParamKind::Length => {
+                    params.set(spec.key, v.parse::<f64>().map_err(|_| bad(s))?)
+                }
+                // `adaptive:paper` for the `adaptive_paper` flag
+                ParamKind::Bool if spec.key.ends_with(v) => params.set(spec.key, true),
+                ParamKind::Bool => return Err(bad(s)),
+            }
         }
-        Ok(Self { label: s.to_string(), method: method.to_string(), bidir })
+        Ok(Self { label: s.to_string(), method, params })
     }
 }
 
 fn bad(s: &str) -> anyhow::Error {
-    anyhow::anyhow!(
-        "bad method '{s}' (expected pt, vismap[:DEPTH], adaptive[:paper], quasi[:CONE] or adaptive+quasi[:CONE])"
-    )
+    let forms: Vec<String> = crate::integrator::method::METHODS
+        .iter()
+        .map(|m| match m.variant {
+            Some(v) if v.kind == ParamKind::Bool => {
+                format!("{}[:{}]", m.name, v.key.rsplit('_').next().unwrap_or(v.key))
+            }
+            Some(v) => format!("{}[:{}]", m.name, v.key.to_uppercase()),
+            None => m.name.to_string(),
+        })
+        .collect();
+    anyhow::anyhow!("bad method '{s}' (expected one of: {})", forms.join(", "))
 }
 
 /// Parses a comma-separated list of [`MethodVariant`]s.
@@ -107,19 +122,14 @@ pub fn run(
     let mut points = Vec::new();
     for m in methods {
         for &budget in budgets {
-            let ov = JobOverrides {
-                time_s: Some(budget),
-                method: Some(m.method.clone()),
-                bidir: if m.method == "pt" {
-                    BidirectionalOptions::default()
-                } else {
-                    BidirectionalOptions {
-                        photons_per_iteration: m.bidir.photons_per_iteration.or(base.bidir.photons_per_iteration),
-                        ..m.bidir.clone()
-                    }
-                },
-                ..base.clone()
-            };
+            // the base's parameters (photons per iteration) where the method reads them
+            let mut params = m.params.clone();
+            for (k, v) in base.params.values() {
+                if m.method.params.iter().any(|p| p.key == k) && !params.contains(k) {
+                    params.set(k, v.clone());
+                }
+            }
+            let ov = JobOverrides { time_s: Some(budget), method: Some(m.method.name.into()), params, ..base.clone() };
             let out = render_desc(desc, &ov, false)?;
             let y = out.image.channel("Y").unwrap_or_default();
             if y.len() != reference.len() {
@@ -254,6 +264,77 @@ pub fn write_plot(points: &[CurvePoint], path: &Path) -> Result<String> {
     Ok(legend)
 }
 
+/// The settings of `quasar bench convergence`.
+#[derive(Clone, Debug)]
+pub struct BenchSettings {
+    /// Comma-separated method variants ([`parse_methods`]).
+    pub methods: String,
+    /// The longest time budget (s).
+    pub time: f64,
+    /// Number of budgets: time / 2^(steps - 1), ..., time.
+    pub steps: u32,
+    /// Reference EXR (its size is the render size); None: a pt render of `reference_spp`.
+    pub reference: Option<std::path::PathBuf>,
+    /// Samples per pixel of the pt reference.
+    pub reference_spp: u32,
+    /// Image width without a reference file.
+    pub width: u32,
+    /// Image height without a reference file.
+    pub height: u32,
+    /// Photons per iteration of the bidirectional methods (None: 4 per pixel).
+    pub photons_per_iteration: Option<u64>,
+    /// The error whose reaching time is reported.
+    pub target: f64,
+    /// Seed of the renders.
+    pub seed: u64,
+    /// Write the curves as CSV here.
+    pub csv: Option<std::path::PathBuf>,
+    /// Write a log-log plot here (PNG).
+    pub plot: Option<std::path::PathBuf>,
+}
+
+/// Runs the benchmark on `desc` and returns its report (the markdown table, and the plot's
+/// legend when a plot is written); `log` receives a line per render.
+pub fn bench(desc: &SceneDesc, s: &BenchSettings, mut log: impl FnMut(&str)) -> Result<String> {
+    let methods = parse_methods(&s.methods)?;
+    if !(s.time > 0.0 && s.time.is_finite()) || s.steps == 0 || s.steps > 20 {
+        bail!("--time must be positive and --steps in 1..=20");
+    }
+    let (w, h, reference) = match &s.reference {
+        Some(p) => {
+            let img = crate::output::read_exr(p)?;
+            let y = img.channel("Y").ok_or_else(|| anyhow::anyhow!("{}: no Y channel", p.display()))?.to_vec();
+            (img.width as u32, img.height as u32, y)
+        }
+        None => {
+            let t = std::time::Instant::now();
+            let y = pt_reference(desc, s.width, s.height, s.reference_spp, s.seed ^ 0x5eed, true)?;
+            log(&format!(
+                "reference: pt {}x{}, {} spp, {:.1} s",
+                s.width,
+                s.height,
+                s.reference_spp,
+                t.elapsed().as_secs_f64()
+            ));
+            (s.width, s.height, y)
+        }
+    };
+    let budgets: Vec<f64> = (0..s.steps).rev().map(|k| s.time / 2f64.powi(k as i32)).collect();
+    let mut base = JobOverrides { width: Some(w), height: Some(h), seed: Some(s.seed), ..Default::default() };
+    base.params.set("photons_per_iteration", s.photons_per_iteration.unwrap_or(4 * w as u64 * h as u64));
+    let points = run(desc, &base, &methods, &budgets, &reference, |p| {
+        log(&format!("{} {} s: relMSE {:.5} ({} samples/iterations)", p.label, p.budget, p.rel_mse, p.samples));
+    })?;
+    let mut out = markdown_table(&points, s.target);
+    if let Some(p) = &s.csv {
+        crate::output::write_atomic_bytes(p, to_csv(&points).as_bytes())?;
+    }
+    if let Some(p) = &s.plot {
+        out += &write_plot(&points, p)?;
+    }
+    Ok(out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -262,9 +343,10 @@ mod tests {
     fn methods_parse() {
         let v = parse_methods("pt, vismap:1,adaptive:paper,quasi:30,adaptive+quasi").unwrap();
         assert_eq!(v.len(), 5);
-        assert_eq!(v[1].bidir.gather_depth, Some(1));
-        assert!(v[2].bidir.adaptive_paper);
-        assert_eq!(v[3].bidir.cone_deg, Some(30.0));
+        use crate::integrator::params::ParamValue;
+        assert_eq!(v[1].params.get("gather_depth"), Some(&ParamValue::Int(1)));
+        assert_eq!(v[2].params.get("adaptive_paper"), Some(&ParamValue::Bool(true)));
+        assert_eq!(v[3].params.get("cone_deg"), Some(&ParamValue::Float(30.0)));
         assert!(parse_methods("pt:3").is_err());
         assert!(parse_methods("bdpt").is_err());
         assert!(parse_methods("").is_err());

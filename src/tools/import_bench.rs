@@ -102,3 +102,31 @@ pub fn run(path: &Path, triangles: u64) -> Result<ImportReport> {
     anyhow::ensure!(scene.triangle_count() as u64 == triangles, "compiled {} triangles", scene.triangle_count());
     Ok(ImportReport { triangles, file_bytes, import_s, compile_s, rss_before_mib, peak_import_mib, peak_total_mib })
 }
+
+/// `quasar bench gltf-import`: writes a `grid` x `grid` glTF (at `file`, or in a temporary
+/// folder removed afterwards), imports and compiles it, and returns the report.
+pub fn bench(grid: u32, file: Option<&Path>) -> Result<String> {
+    anyhow::ensure!((1..=16384).contains(&grid), "--grid must be in 1..=16384");
+    let tmp = std::env::temp_dir().join(format!("quasar-bench-{}", std::process::id()));
+    std::fs::create_dir_all(&tmp)?;
+    let path = file.map_or_else(|| tmp.join("grid.glb"), Path::to_path_buf);
+    let triangles = 2 * u64::from(grid) * u64::from(grid);
+    let t = Instant::now();
+    let bytes = write_grid_glb(&path, grid)?;
+    let mut s = format!(
+        "wrote {} ({triangles} triangles, {bytes} bytes) in {:.2} s\n",
+        path.display(),
+        t.elapsed().as_secs_f64()
+    );
+    let r = run(&path, triangles)?;
+    let _ = std::fs::remove_dir_all(&tmp);
+    let mib = |v: Option<f64>| v.map_or("n/a".to_owned(), |v| format!("{v:.0} MiB"));
+    s += &format!("triangles: {}\n", r.triangles);
+    s += &format!("file: {:.1} MiB\n", r.file_bytes as f64 / (1 << 20) as f64);
+    s += &format!("import: {:.3} s ({:.2} M triangles/s)\n", r.import_s, r.triangles as f64 / r.import_s / 1e6);
+    s += &format!("compile (BVH): {:.3} s\n", r.compile_s);
+    s += &format!("rss before import: {}\n", mib(r.rss_before_mib));
+    s += &format!("peak rss during import: {}\n", mib(r.peak_import_mib));
+    s += &format!("peak rss during import + compile: {}\n", mib(r.peak_total_mib));
+    Ok(s)
+}

@@ -6,6 +6,7 @@ pub mod bsdf_report;
 pub mod compare;
 pub mod convergence;
 pub mod import_bench;
+pub mod info;
 pub mod material_library;
 pub mod merge;
 pub mod mitsuba_export;

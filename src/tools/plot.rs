@@ -53,13 +53,8 @@ impl Canvas {
         }
     }
 
-    /// Writes the canvas as PNG via a temporary file and a rename (never a partial file).
+    /// Writes the canvas as PNG, atomically ([`crate::output::write_png_atomic`]).
     pub fn save(&self, path: &Path) -> Result<()> {
-        let tmp = path.with_extension("png.tmp");
-        self.img
-            .save_with_format(&tmp, image::ImageFormat::Png)
-            .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-        std::fs::rename(&tmp, path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-        Ok(())
+        Ok(crate::output::write_png_atomic(path, &self.img)?)
     }
 }

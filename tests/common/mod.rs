@@ -171,13 +171,10 @@ pub fn bidir_ov(w: u32, h: u32, method: &str, iterations: u32, photons: u64, see
         height: Some(h),
         seed: Some(seed),
         method: Some(method.into()),
-        bidir: quasar::integrator::method::BidirectionalOptions {
-            iterations: Some(iterations),
-            photons_per_iteration: Some(photons),
-            ..Default::default()
-        },
         ..Default::default()
     }
+    .with_param("iterations", iterations)
+    .with_param("photons_per_iteration", photons)
 }
 
 /// The beauty and every layer.

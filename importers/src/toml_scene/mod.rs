@@ -34,7 +34,6 @@ use crate::scene_desc::{
 use crate::transform::{flip_mesh, transform_camera, transform_light, transform_mesh};
 
 /// Integration methods accepted by `[render] method`.
-pub const RENDER_METHODS: [&str; 6] = ["auto", "pt", "vismap", "adaptive", "quasi", "adaptive+quasi"];
 /// Length units accepted by `units`, with their size in metres.
 pub const UNITS: [(&str, f32); 5] = [("m", 1.0), ("cm", 0.01), ("mm", 0.001), ("in", 0.0254), ("ft", 0.3048)];
 /// How deep TOML scenes may include TOML scenes (guards against include cycles).

@@ -2,45 +2,40 @@
 
 use quasar_materials::spectrum::Spectrum;
 
+use super::LIGHT_TYPES;
 use super::reader::{Tbl, number};
 use super::spectrum::{self, SpectrumUse};
-use super::{LIGHT_TYPES, RENDER_METHODS};
 use crate::error::ImportError;
-use crate::scene_desc::{CameraDesc, FovAxis, LightDesc, RenderSettings};
+use crate::scene_desc::{CameraDesc, FovAxis, LightDesc, ParamValue, RenderParam, RenderSettings};
 
-/// Reads the `[render]` table (defaults when absent); lengths (`radius`) are converted with `unit`.
+/// Reads the `[render]` table (defaults when absent). The image, budget and seed keys are read
+/// here; every other key is a method parameter, kept with its place for the renderer's method
+/// table to validate (`unit` converts its lengths).
 pub(super) fn render(t: Option<Tbl<'_>>, unit: f32) -> Result<RenderSettings, ImportError> {
-    let mut r = RenderSettings::default();
+    let mut r = RenderSettings { unit, ..RenderSettings::default() };
     let Some(t) = t else { return Ok(r) };
-    t.check_keys(&[
-        "width",
-        "height",
-        "spp",
-        "time",
-        "seed",
-        "max_depth",
-        "method",
-        "target_error",
-        "iterations",
-        "photons_per_iteration",
-        "gather_depth",
-        "max_gather_depth",
-        "cone_deg",
-        "radius",
-        "alpha",
-        "masking",
-    ])?;
-    let b = &mut r.bidirectional;
-    b.iterations = t.opt_int("iterations", 1, u32::MAX as i128)?;
-    b.photons_per_iteration = t.opt_int("photons_per_iteration", 1, 1i128 << 32)?;
-    b.gather_depth = t.opt_int("gather_depth", 0, 64)?;
-    b.max_gather_depth = t.opt_int("max_gather_depth", 0, 7)?;
-    b.cone_deg = t.opt_f32_where("cone_deg", "in (0, 90) degrees", |c| c > 0.0 && c < 90.0)?;
-    b.radius = t.opt_f32_where("radius", "> 0", |x| x > 0.0)?.map(|x| x * unit);
-    if b.radius.is_some_and(|x| !(x.is_finite() && x > 0.0)) {
-        return Err(t.doc.invalid(&t.key_span("radius"), "`render.radius` is out of range in metres"));
+    const OWN: [&str; 8] = ["width", "height", "spp", "time", "seed", "method", "target_error", "masking"];
+    for (k, v) in t.entries() {
+        let key: &str = k.get_ref();
+        if OWN.contains(&key) {
+            continue;
+        }
+        let value = match v.get_ref() {
+            toml::de::DeValue::Integer(i) => {
+                let s = i.as_str();
+                let n = i128::from_str_radix(s.trim_start_matches('+').replace('_', "").as_str(), i.radix())
+                    .map_err(|_| t.doc.invalid(&v.span(), format!("`render.{key}`: {s} is not an integer")))?;
+                ParamValue::Int(n)
+            }
+            toml::de::DeValue::Float(_) => ParamValue::Float(number(t.doc, v, &t.key_path(key))?),
+            toml::de::DeValue::Boolean(b) => ParamValue::Bool(*b),
+            toml::de::DeValue::String(s) => ParamValue::Str(s.to_string()),
+            _ => {
+                return Err(t.doc.invalid(&v.span(), format!("`render.{key}` must be a number, boolean or string")));
+            }
+        };
+        r.params.push(RenderParam { key: key.to_string(), value, place: t.doc.place(&k.span()) });
     }
-    b.alpha = t.opt_f32_where("alpha", "in (0, 1)", |a| a > 0.0 && a < 1.0)?;
     r.target_error = t.opt_f32_where("target_error", "> 0", |e| e > 0.0)?.map(f64::from);
     if let Some(w) = t.opt_int("width", 1, 65536)? {
         r.width = w;
@@ -61,9 +56,9 @@ pub(super) fn render(t: Option<Tbl<'_>>, unit: f32) -> Result<RenderSettings, Im
     if let Some(s) = t.opt_int("seed", 0, u64::MAX as i128)? {
         r.seed = s;
     }
-    r.max_depth = t.opt_int("max_depth", 0, 1_000_000)?;
-    if let Some((m, _)) = t.choice("method", &RENDER_METHODS)? {
-        r.method = m.to_owned();
+    if let Some(v) = t.get("method") {
+        r.method = super::reader::string(t.doc, v, &t.key_path("method"))?.to_owned();
+        r.method_place = Some(t.doc.place(&v.span()));
     }
     if let Some((m, _)) = t.choice("masking", &quasar_materials::Masking::NAMES)? {
         r.masking = quasar_materials::Masking::from_name(m).unwrap_or_default();

@@ -1,0 +1,214 @@
+//! `quasar render`: its arguments (the method parameters as one flag each, from the method
+//! table) and the run.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use clap::{Arg, ArgAction, ArgMatches, Args, Command, FromArgMatches};
+use quasar::integrator::method::{METHODS, all_params, method_names};
+use quasar::integrator::params::{MethodParams, ParamKind};
+use quasar::render::job::{JobOverrides, render_desc, write_outputs_with_exposure};
+use quasar_importers::ImportOptions;
+
+use super::parse::{parse_masking, parse_shard, parse_units, same_file};
+
+/// The arguments of `quasar render`.
+#[derive(clap::Args)]
+pub struct RenderArgs {
+    /// Scene file.
+    pub scene: PathBuf,
+    /// Let glTF files refer to files by absolute paths or outside their folder.
+    #[arg(long)]
+    pub allow_external_paths: bool,
+    /// Extra length unit of the scene file (m, cm, mm, in, ft, or a factor in metres), e.g.
+    /// `--units mm` for a glTF exported in millimetres (applies on top of a TOML `units`).
+    #[arg(long, value_parser = parse_units)]
+    pub units: Option<f32>,
+    /// Output EXR (default: the scene's name with .exr, in the current directory).
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Integration method (default: the scene's, else auto).
+    #[arg(long, long_help = method_help())]
+    pub method: Option<String>,
+    /// Samples per pixel.
+    #[arg(long, conflicts_with = "time")]
+    pub spp: Option<u32>,
+    /// Render for this many seconds instead of a fixed sample count.
+    #[arg(long)]
+    pub time: Option<f64>,
+    /// Stop when the estimated RMS relative error of the image (sqrt of the mean over pixels
+    /// of stderr^2 / (Y^2 + 1e-3)) is at most this, or at --time, whichever comes first.
+    #[arg(long)]
+    pub target_error: Option<f64>,
+    /// Image width in pixels.
+    #[arg(long)]
+    pub width: Option<u32>,
+    /// Image height in pixels.
+    #[arg(long)]
+    pub height: Option<u32>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Seed of the random streams.
+    #[arg(long)]
+    pub seed: Option<u64>,
+    #[command(flatten)]
+    pub params: MethodArgs,
+    /// Render share K of N (0 <= K < N) of the samples or iterations, with streams disjoint
+    /// from the other shares; `quasar merge` combines the shards into the full render.
+    #[arg(long, value_parser = parse_shard)]
+    pub shard: Option<(u32, u32)>,
+    /// Write the accumulated state to this file periodically and at the end.
+    #[arg(long)]
+    pub checkpoint: Option<PathBuf>,
+    /// Continue the render stored in this checkpoint (same scene and settings; a larger
+    /// --spp / --iterations or a new --time extends it).
+    #[arg(long)]
+    pub resume: Option<PathBuf>,
+    /// Microfacet masking-shadowing of the GGX materials: height-correlated (default) or
+    /// separable (Mitsuba 3's and pbrt-v3's form, for comparisons with them).
+    #[arg(long, value_parser = parse_masking)]
+    pub masking: Option<quasar_materials::Masking>,
+    /// Exposure of the PNG preview in stops (the preview is scaled by 2^EV before clipping).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub exposure: f32,
+    /// Also write a tone-mapped PNG preview.
+    #[arg(long)]
+    pub preview: Option<PathBuf>,
+    /// Do not show a progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// The method parameters: one flag per parameter of the method table.
+#[derive(Clone, Debug, Default)]
+pub struct MethodArgs(pub MethodParams);
+
+impl FromArgMatches for MethodArgs {
+    fn from_arg_matches(m: &ArgMatches) -> Result<Self, clap::Error> {
+        let mut p = MethodParams::default();
+        for spec in all_params() {
+            match spec.kind {
+                ParamKind::Bool => {
+                    if m.get_flag(spec.key) {
+                        p.set(spec.key, true);
+                    }
+                }
+                ParamKind::Int { .. } => {
+                    if let Some(v) = m.get_one::<i128>(spec.key) {
+                        p.set(spec.key, *v);
+                    }
+                }
+                ParamKind::Real { .. } | ParamKind::Length => {
+                    if let Some(v) = m.get_one::<f64>(spec.key) {
+                        p.set(spec.key, *v);
+                    }
+                }
+            }
+        }
+        Ok(Self(p))
+    }
+
+    fn update_from_arg_matches(&mut self, m: &ArgMatches) -> Result<(), clap::Error> {
+        *self = Self::from_arg_matches(m)?;
+        Ok(())
+    }
+}
+
+impl Args for MethodArgs {
+    fn augment_args(cmd: Command) -> Command {
+        all_params().into_iter().fold(cmd, |cmd, spec| {
+            let help = format!("{} (default: {})", spec.doc, spec.default);
+            let arg = Arg::new(spec.key).long(spec.flag).help(help);
+            cmd.arg(match spec.kind {
+                ParamKind::Bool => arg.action(ArgAction::SetTrue),
+                ParamKind::Int { .. } => arg.value_parser(clap::value_parser!(i128)).allow_negative_numbers(true),
+                ParamKind::Real { .. } | ParamKind::Length => {
+                    arg.value_parser(clap::value_parser!(f64)).allow_negative_numbers(true)
+                }
+            })
+        })
+    }
+
+    fn augment_args_for_update(cmd: Command) -> Command {
+        Self::augment_args(cmd)
+    }
+}
+
+/// `--method` values and their summaries, for the help text.
+pub fn method_help() -> String {
+    let mut s = format!("Integration method: {} (auto: scene analysis picks one).", method_names().join(" | "));
+    for m in METHODS {
+        s += &format!("\n  {}: {}", m.name, m.summary);
+    }
+    s
+}
+
+/// Runs `quasar render`.
+pub fn render(args: RenderArgs) -> Result<()> {
+    let RenderArgs {
+        scene,
+        allow_external_paths,
+        units,
+        output,
+        method,
+        spp,
+        time,
+        target_error,
+        width,
+        height,
+        threads,
+        seed,
+        params,
+        shard,
+        checkpoint,
+        resume,
+        masking,
+        preview,
+        exposure,
+        quiet,
+    } = args;
+    let desc = super::load(&scene, &ImportOptions { allow_external_paths, units_scale: units })?;
+    quasar::render::interrupt::install_handler();
+    let ov = JobOverrides {
+        width,
+        height,
+        spp,
+        time_s: time,
+        target_error,
+        seed,
+        threads,
+        method,
+        params: params.0,
+        shard,
+        checkpoint,
+        resume,
+        masking,
+    };
+    let out = render_desc(&desc, &ov, !quiet)?;
+    for w in &out.result.warnings {
+        eprintln!("warning: {w}");
+    }
+    let exr = output.unwrap_or_else(|| {
+        PathBuf::from(scene.file_stem().map_or("out".into(), |s| s.to_string_lossy().into_owned()) + ".exr")
+    });
+    if same_file(&scene, &exr) || preview.as_ref().is_some_and(|p| same_file(&scene, p)) {
+        anyhow::bail!("{}: the output would overwrite the scene file", exr.display());
+    }
+    write_outputs_with_exposure(&out, &exr, preview.as_ref(), exposure)?;
+    if out.result.interrupted {
+        eprintln!("interrupted: wrote the partial image {} ({} spp)", exr.display(), out.result.spp);
+    }
+    if !quiet {
+        eprintln!(
+            "wrote {} ({}x{}, {} spp, {:.2} s, {} threads)",
+            exr.display(),
+            out.image.width,
+            out.image.height,
+            out.result.spp,
+            out.result.seconds,
+            out.result.threads
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,250 @@
+//! One iteration of the bidirectional methods (docs/architecture.md, "vismap"): the hero
+//! wavelengths it shares between its camera and light passes, the camera paths and their
+//! visibility points with gather radii (the progressive schedule r_k^2 = r_1^2 prod (j - 1 +
+//! alpha) / j of Knaus & Zwicker 2011, scaled per pixel by a pilot photon pass and normalised by
+//! the disk's covered share), the visibility grid, the photon pass, and the photon density
+//! estimate L^I = beta sum(f Phi) / (N pi r^2 c).
+
+use std::f64::consts::PI;
+
+use glam::Vec2;
+use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
+use rayon::prelude::*;
+
+use super::coverage;
+use super::grid::VisibilityGrid;
+use super::photon_pass::{self, GatherRadii, PhotonSums, trace_photons};
+use super::settings::VismapSettings;
+use super::visibility_point::{CameraPathResult, GatherRule, VisibilityPoint, trace_camera_path};
+use crate::core::camera::Camera;
+use crate::core::sampling::{Sampler, mix64};
+use crate::core::scene::Scene;
+use crate::film::LayeredRadiance;
+
+/// Squared radius factor of iteration k (1-based): prod_{j=2..k} (j - 1 + alpha) / j.
+pub fn radius2_factor(k: u32, alpha: f64) -> f64 {
+    (2..=k).fold(1.0, |acc, j| acc * (j as f64 - 1.0 + alpha) / j as f64)
+}
+
+/// The hero wavelength number of iteration k: a golden-ratio sequence offset by the seed, so
+/// iterations are stratified over the spectrum without knowing their count in advance.
+pub fn iteration_wavelength_u(seed: u64, k: u32) -> f32 {
+    let offset = (mix64(seed ^ 0x7761_7665) >> 40) as f64 / (1u64 << 24) as f64;
+    ((offset + k as f64 * 0.618_033_988_749_894_8).fract()) as f32
+}
+
+/// Photons a gather disk should hold in an iteration: the automatic radius is shrunk (never
+/// grown) until the pilot pass's photon density puts this many photons in it.
+pub const RADIUS_PILOT_PHOTONS: f32 = 8.0;
+/// The automatic radius is not shrunk below this share of its pixel-footprint default.
+pub const MIN_RADIUS_SCALE: f32 = 0.1;
+
+/// One iteration's passes: camera paths with their visibility points, the grid over them and
+/// the photon pass at the iteration's wavelengths, all keyed by iteration number `k`.
+pub struct Iteration {
+    /// Seed of the camera streams.
+    pub seed: u64,
+    /// Seed of the photon streams.
+    pub photon_seed: u64,
+    /// Iteration number (0: the radius pilot).
+    pub k: u32,
+    /// The iteration's wavelengths.
+    pub wl: SampledWavelengths,
+    /// Photons traced.
+    pub n_photons: u64,
+}
+
+/// What [`Iteration::run`] produced.
+pub struct IterationResult<'s> {
+    /// One camera path per pixel.
+    pub paths: Vec<CameraPathResult<'s>>,
+    /// The pixel of every visibility point.
+    pub owners: Vec<usize>,
+    /// The visibility points.
+    pub points: Vec<VisibilityPoint<'s>>,
+    /// Their gather radii.
+    pub radii: Vec<GatherRadii>,
+    /// The photon pass.
+    pub photons: photon_pass::PhotonPassResult,
+    /// Bytes of the visibility grid.
+    pub grid_bytes: usize,
+}
+
+impl Iteration {
+    /// Traces one camera path per pixel at gather depths `depths`, gives every visibility
+    /// point the indirect radius `radius_of(pixel, point)` (caustic radius: the settings' ratio
+    /// of it) and gathers the iteration's photons.
+    pub fn run<'s>(
+        &self,
+        scene: &'s Scene,
+        camera: &Camera,
+        settings: &VismapSettings,
+        base_rule: &GatherRule,
+        depths: &[Option<u32>],
+        radius_of: impl Fn(usize, &VisibilityPoint) -> f32 + Sync,
+    ) -> IterationResult<'s> {
+        let w = camera.width() as usize;
+        let paths: Vec<CameraPathResult> = (0..depths.len())
+            .into_par_iter()
+            .map(|i| {
+                let mut sampler = Sampler::new(self.seed, i as u64, self.k as u64);
+                let film_pos = Vec2::new((i % w) as f32, (i / w) as f32) + sampler.get_2d();
+                let rule = GatherRule { depth: depths[i].unwrap_or(0), ..*base_rule };
+                trace_camera_path(scene, camera.ray(film_pos), self.wl, &mut sampler, &rule)
+            })
+            .collect();
+        let mut owners = Vec::new();
+        let mut points = Vec::new();
+        let mut point_wl = Vec::new();
+        for (i, p) in paths.iter().enumerate() {
+            for vp in &p.points {
+                owners.push(i);
+                points.push(*vp);
+                point_wl.push(p.wl);
+            }
+        }
+        let radii: Vec<GatherRadii> = (0..points.len())
+            .into_par_iter()
+            .map(|j| {
+                let (i, vp) = (owners[j], &points[j]);
+                let r = radius_of(i, vp);
+                let rc = r * settings.caustic_ratio;
+                let rotation = (mix64(self.seed ^ mix64(((self.k as u64) << 40) ^ j as u64)) >> 40) as f32
+                    * (std::f32::consts::TAU / (1u64 << 24) as f32);
+                let (ci, cc) = coverage::disk_coverage(scene, vp, r, rc, rotation);
+                GatherRadii { indirect: r, caustic: rc, indirect_coverage: ci, caustic_coverage: cc }
+            })
+            .collect();
+        let grid_input: Vec<_> = points.iter().zip(&radii).map(|(p, r)| (p.p, r.indirect)).collect();
+        let grid = VisibilityGrid::build(&grid_input);
+        let photons = trace_photons(
+            scene,
+            &self.wl,
+            &points,
+            &point_wl,
+            &radii,
+            &grid,
+            self.n_photons,
+            self.photon_seed,
+            self.k,
+            base_rule.cone_cos,
+        );
+        IterationResult { paths, owners, points, radii, photons, grid_bytes: grid.memory_bytes() }
+    }
+}
+
+/// The per-pixel scale of the automatic gather radius, from a pilot iteration (number 0, not
+/// part of the image) at the default radius: where its photon count M exceeds
+/// [`RADIUS_PILOT_PHOTONS`] the radius is scaled by sqrt(RADIUS_PILOT_PHOTONS / M), so that
+/// a disk holds about that many photons; dim pixels keep the default (scale 1). The
+/// photon-mapping bias grows with the radius squared, so many photons per iteration buy a
+/// small radius instead of a needlessly precise blur. Every shard computes the same pilot.
+#[allow(clippy::too_many_arguments)]
+pub fn radius_pilot(
+    scene: &Scene,
+    camera: &Camera,
+    settings: &VismapSettings,
+    base_rule: &GatherRule,
+    depths: &[Option<u32>],
+    seed: u64,
+    photon_seed: u64,
+    n_photons: u64,
+) -> Vec<f32> {
+    if settings.radius.is_some() {
+        return vec![1.0; depths.len()];
+    }
+    let wl = SampledWavelengths::sample_visible(iteration_wavelength_u(seed, 0));
+    let pixel_angle = camera.pixel_solid_angle().sqrt();
+    let it = Iteration { seed, photon_seed, k: 0, wl, n_photons };
+    let radius_of = |_: usize, vp: &VisibilityPoint| settings.radius_pixels * pixel_angle * vp.footprint_distance;
+    let r = it.run(scene, camera, settings, base_rule, depths, radius_of);
+    // photons per fully covered disk
+    let mut count = vec![(0.0f32, 0u32); depths.len()];
+    for (j, &i) in r.owners.iter().enumerate() {
+        count[i].0 += r.photons.sums[j].photons as f32 / r.radii[j].indirect_coverage;
+        count[i].1 += 1;
+    }
+    count
+        .iter()
+        .map(|&(m, n)| {
+            let m = m / n.max(1) as f32;
+            if m > RADIUS_PILOT_PHOTONS { (RADIUS_PILOT_PHOTONS / m).sqrt().max(MIN_RADIUS_SCALE) } else { 1.0 }
+        })
+        .collect()
+}
+
+/// L^I of one visibility point by photon class.
+struct Gathered {
+    /// Photons with a non-specular bounce: beta sum / (N pi r_i^2).
+    indirect_radius: SampledSpectrum,
+    /// Caustic photons: beta sum / (N pi r_c^2).
+    caustic_radius: SampledSpectrum,
+    /// The purely specular part of `caustic_radius`.
+    specular_only: SampledSpectrum,
+}
+
+/// L^I of one visibility point: beta * sum(f Phi) / (N pi r^2 c) for the indirect and caustic
+/// photon classes, each with its own radius r and covered share c of its disk.
+fn gathered_radiance(sums: &PhotonSums, radii: &GatherRadii, n_photons: u64, beta: SampledSpectrum) -> Gathered {
+    let estimate = |s: &[f64; 4], r: f32, coverage: f32| {
+        let area = PI * (r as f64) * (r as f64) * coverage as f64 * n_photons as f64;
+        if !(area > 0.0 && area.is_finite()) {
+            return SampledSpectrum::zero();
+        }
+        SampledSpectrum(std::array::from_fn(|k| (s[k] / area) as f32)) * beta
+    };
+    Gathered {
+        indirect_radius: estimate(&sums.indirect, radii.indirect, radii.indirect_coverage),
+        caustic_radius: estimate(&sums.caustic, radii.caustic, radii.caustic_coverage),
+        specular_only: estimate(&sums.specular_only, radii.caustic, radii.caustic_coverage),
+    }
+}
+
+impl IterationResult<'_> {
+    /// Every pixel's estimate of this iteration: its camera path's radiance plus the photons
+    /// gathered at its visibility points, at the path's wavelengths.
+    pub fn estimates(&self, n_photons: u64) -> Vec<(LayeredRadiance, SampledWavelengths)> {
+        let mut estimates: Vec<_> = self.paths.iter().map(|p| (p.radiance, p.wl)).collect();
+        for (j, &i) in self.owners.iter().enumerate() {
+            let vp = &self.points[j];
+            let g = gathered_radiance(&self.photons.sums[j], &self.radii[j], n_photons, vp.beta);
+            let (l, _) = &mut estimates[i];
+            l.add_indirect(g.caustic_radius, false);
+            l.add_indirect(g.indirect_radius, false);
+            // the caustic layer: light -> specular+ -> this first non-specular vertex -> eye
+            if vp.class.nonspecular == 0 {
+                l.caustic += g.specular_only;
+            }
+        }
+        estimates
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn radius_schedule_is_the_ppm_recurrence() {
+        let a = 2.0 / 3.0;
+        assert_eq!(radius2_factor(1, a), 1.0);
+        for k in 2..50 {
+            let ratio = radius2_factor(k, a) / radius2_factor(k - 1, a);
+            assert!((ratio - (k as f64 - 1.0 + a) / k as f64).abs() < 1e-12);
+        }
+        // r_k^2 ~ k^(alpha - 1) / Gamma(1 + alpha): -> 0 (consistency), slowly enough that the
+        // sum of r_k^2 diverges (variance -> 0); Gamma(5/3) = 0.9027
+        let k = 10_000u32;
+        let expected = (k as f64).powf(a - 1.0) / 0.902_745;
+        assert!((radius2_factor(k, a) / expected - 1.0).abs() < 0.01);
+    }
+
+    #[test]
+    fn iteration_wavelengths_are_stratified() {
+        let mut u: Vec<f32> = (1..=100).map(|k| iteration_wavelength_u(7, k)).collect();
+        u.sort_by(f32::total_cmp);
+        for (i, v) in u.iter().enumerate() {
+            assert!((v - (i as f32 + 0.5) / 100.0).abs() < 0.03, "{i}: {v}");
+        }
+    }
+}

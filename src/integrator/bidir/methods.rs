@@ -1,0 +1,152 @@
+//! The method table's rows of the four bidirectional methods and their parameters:
+//!
+//! | parameter | vismap | adaptive | quasi | adaptive+quasi | meaning |
+//! |---|---|---|---|---|---|
+//! | `iterations` | x | x | x | x | iterations (default: the scene's spp) |
+//! | `photons_per_iteration` | x | x | x | x | photons per iteration (default: one per pixel) |
+//! | `gather_depth` | x | | x | | fixed gather depth (0: the first non-specular vertex) |
+//! | `max_gather_depth` | | x | | x | deepest depth the adaptive choice considers (default 4) |
+//! | `adaptive_paper` | | x | | x | the paper's own, biased depth choice |
+//! | `cone_deg` | | | x | x | quasi-specular cone half-angle (default 10 degrees) |
+//! | `radius` | x | x | x | x | initial gather radius (default: automatic) |
+//! | `alpha` | x | x | x | x | radius reduction alpha (default 2/3) |
+
+use super::passes::Bidirectional;
+use super::settings::{GatherDepth, MAX_ADAPTIVE_DEPTH, VismapSettings};
+use crate::integrator::entry::{Build, Built, MethodEntry};
+use crate::integrator::params::{ParamError, ParamKind, ParamReader, ParamSpec};
+
+/// `iterations`.
+pub static ITERATIONS: ParamSpec = ParamSpec {
+    key: "iterations",
+    flag: "iterations",
+    kind: ParamKind::Int { min: 1, max: u32::MAX as i128 },
+    default: "the scene's spp",
+    doc: "bidirectional methods: number of iterations",
+};
+/// `photons_per_iteration`.
+pub static PHOTONS: ParamSpec = ParamSpec {
+    key: "photons_per_iteration",
+    flag: "photons-per-iteration",
+    kind: ParamKind::Int { min: 1, max: 1 << 32 },
+    default: "one per pixel",
+    doc: "bidirectional methods: photons traced per iteration",
+};
+/// `gather_depth`.
+pub static GATHER_DEPTH: ParamSpec = ParamSpec {
+    key: "gather_depth",
+    flag: "gather-depth",
+    kind: ParamKind::Int { min: 0, max: 64 },
+    default: "0",
+    doc: "vismap, quasi: non-specular camera-path vertex where photons are gathered (0 = first)",
+};
+/// `max_gather_depth`.
+pub static MAX_GATHER_DEPTH: ParamSpec = ParamSpec {
+    key: "max_gather_depth",
+    flag: "max-gather-depth",
+    kind: ParamKind::Int { min: 0, max: MAX_ADAPTIVE_DEPTH as i128 },
+    default: "4",
+    doc: "adaptive, adaptive+quasi: deepest gather depth considered",
+};
+/// `adaptive_paper`.
+pub static ADAPTIVE_PAPER: ParamSpec = ParamSpec {
+    key: "adaptive_paper",
+    flag: "adaptive-paper",
+    kind: ParamKind::Bool,
+    default: "false",
+    doc: "adaptive, adaptive+quasi: choose the depth from the iteration's own first ray (the paper's variant; biased) instead of earlier iterations' pilot paths",
+};
+/// `cone_deg`.
+pub static CONE: ParamSpec = ParamSpec {
+    key: "cone_deg",
+    flag: "cone",
+    kind: ParamKind::Real { min: 0.0, max: 90.0 },
+    default: "10",
+    doc: "quasi, adaptive+quasi: half-angle in degrees of the quasi-specular cone",
+};
+/// `radius`.
+pub static RADIUS: ParamSpec = ParamSpec {
+    key: "radius",
+    flag: "radius",
+    kind: ParamKind::Length,
+    default: "automatic (3 pixel footprints, shrunk where photons are dense)",
+    doc: "bidirectional methods: initial gather radius in scene units",
+};
+/// `alpha`.
+pub static ALPHA: ParamSpec = ParamSpec {
+    key: "alpha",
+    flag: "alpha",
+    kind: ParamKind::Real { min: 0.0, max: 1.0 },
+    default: "2/3",
+    doc: "bidirectional methods: radius reduction alpha of progressive photon mapping",
+};
+
+/// Default deepest gather depth of the adaptive methods.
+pub const DEFAULT_MAX_GATHER_DEPTH: u32 = 4;
+/// Default quasi-specular cone half-angle (degrees).
+pub const DEFAULT_CONE_DEG: f32 = 10.0;
+
+/// Reads the settings of a bidirectional method (`adaptive`: the depth is chosen; `quasi`: with
+/// the cone); `iterations` defaults to `spp`.
+fn settings(r: &ParamReader, adaptive: bool, quasi: bool, spp: u32) -> Result<VismapSettings, ParamError> {
+    let mut v = VismapSettings {
+        iterations: r.int(&ITERATIONS)?.map_or(spp, |i| i as u32).max(1),
+        photons_per_iteration: r.int(&PHOTONS)?.map(|n| n as u64),
+        ..VismapSettings::default()
+    };
+    v.depth = if adaptive {
+        let max_depth = r.int(&MAX_GATHER_DEPTH)?.map_or(DEFAULT_MAX_GATHER_DEPTH, |d| d as u32);
+        GatherDepth::Adaptive { max_depth, paper: r.bool(&ADAPTIVE_PAPER)?.unwrap_or(false) }
+    } else {
+        GatherDepth::Fixed(r.int(&GATHER_DEPTH)?.map_or(0, |d| d as u32))
+    };
+    if quasi {
+        v.cone_deg = Some(r.real(&CONE)?.map_or(DEFAULT_CONE_DEG, |c| c as f32));
+    }
+    v.radius = r.real(&RADIUS)?.map(|x| x as f32);
+    if let Some(a) = r.real(&ALPHA)? {
+        v.alpha = a as f32;
+    }
+    Ok(v)
+}
+
+fn build<'s>(b: &Build<'s>, r: &ParamReader, adaptive: bool, quasi: bool) -> Result<Built<'s>, ParamError> {
+    let s = settings(r, adaptive, quasi, b.spp)?;
+    Ok(Built { units: s.iterations, method: Box::new(Bidirectional::new(b.scene, b.camera, s, b.seed, b.shard)) })
+}
+
+/// `vismap`.
+pub static VISMAP: MethodEntry = MethodEntry {
+    name: "vismap",
+    summary: "bidirectional stochastic ray tracing with visibility maps (Zhdanov, Ershov & Voloboy 2015): per iteration one camera path per pixel leaves a visibility point at the gather depth, photons from the lights are gathered there within progressively shrinking radii",
+    params: &[&ITERATIONS, &PHOTONS, &GATHER_DEPTH, &RADIUS, &ALPHA],
+    variant: Some(&GATHER_DEPTH),
+    build: |b, r| build(b, r, false, false),
+};
+
+/// `adaptive`.
+pub static ADAPTIVE: MethodEntry = MethodEntry {
+    name: "adaptive",
+    summary: "vismap with a per-pixel gather depth: the vertex of least non-uniformity kappa (most diffuse BSDF), chosen from earlier iterations' pilot paths so that each iteration stays unbiased",
+    params: &[&ITERATIONS, &PHOTONS, &MAX_GATHER_DEPTH, &ADAPTIVE_PAPER, &RADIUS, &ALPHA],
+    variant: Some(&ADAPTIVE_PAPER),
+    build: |b, r| build(b, r, true, false),
+};
+
+/// `quasi`.
+pub static QUASI: MethodEntry = MethodEntry {
+    name: "quasi",
+    summary: "quasi-specular backward tracing: samples within the cone around a glossy surface's mirror or refraction direction continue the path, narrow lobes are passed through, light and photons are gathered over the rest of the sphere",
+    params: &[&ITERATIONS, &PHOTONS, &GATHER_DEPTH, &CONE, &RADIUS, &ALPHA],
+    variant: Some(&CONE),
+    build: |b, r| build(b, r, false, true),
+};
+
+/// `adaptive+quasi`.
+pub static ADAPTIVE_QUASI: MethodEntry = MethodEntry {
+    name: "adaptive+quasi",
+    summary: "adaptive depth and quasi-specular tracing together (quasi-specular events do not count as depth); what auto picks for narrow or specular scenes",
+    params: &[&ITERATIONS, &PHOTONS, &MAX_GATHER_DEPTH, &ADAPTIVE_PAPER, &CONE, &RADIUS, &ALPHA],
+    variant: Some(&CONE),
+    build: |b, r| build(b, r, true, true),
+};

@@ -1,0 +1,103 @@
+//! The pass of every method whose units are independent samples per pixel (`pt`, `direct`):
+//! sample s of pixel i gets its own hashed random stream (seed, pixel, global sample index),
+//! fresh hero wavelengths and a jittered camera ray, and the film sums a pixel's samples in
+//! sample order, so the image does not depend on the pass sizes or the thread count. Shard K of
+//! N renders the global samples K + N s.
+
+use glam::Vec2;
+use quasar_materials::spectrum::SampledWavelengths;
+use rayon::prelude::*;
+
+use super::pass::{PassControl, PassEnd, RenderMethod};
+use crate::core::camera::Camera;
+use crate::core::geometry::Ray;
+use crate::core::sampling::Sampler;
+use crate::core::scene::Scene;
+use crate::film::{Film, LayeredRadiance};
+
+/// An estimator of the radiance along one camera ray: what a per-pixel method adds to the
+/// generic pass.
+pub trait PixelEstimator: Sync + Send {
+    /// The layered radiance of one path starting with `ray` at the (possibly terminated)
+    /// wavelengths `wl`.
+    fn radiance(&self, scene: &Scene, ray: Ray, wl: &mut SampledWavelengths, sampler: &mut Sampler) -> LayeredRadiance;
+
+    /// Header entries of the estimator's settings.
+    fn header(&self) -> Vec<(String, String)>;
+}
+
+/// Samples-per-pixel passes of an estimator.
+pub struct PerPixel<'s, E> {
+    scene: &'s Scene,
+    camera: &'s Camera,
+    estimator: E,
+    seed: u64,
+    shard: (u32, u32),
+}
+
+impl<'s, E: PixelEstimator> PerPixel<'s, E> {
+    /// The method of `estimator` over `camera`'s image, for render share `shard` = (K, N).
+    pub fn new(scene: &'s Scene, camera: &'s Camera, estimator: E, seed: u64, shard: (u32, u32)) -> Self {
+        Self { scene, camera, estimator, seed, shard: (shard.0, shard.1.max(1)) }
+    }
+
+    /// One sample of pixel (x, y) with global sample index `s`.
+    #[inline]
+    fn sample(&self, x: u32, y: u32, s: u32) -> (LayeredRadiance, SampledWavelengths) {
+        let index = y as u64 * self.camera.width() as u64 + x as u64;
+        let mut sampler = Sampler::new(self.seed, index, s as u64);
+        let mut wl = SampledWavelengths::sample_visible(sampler.get_1d());
+        let jitter = sampler.get_2d();
+        let ray = self.camera.ray(Vec2::new(x as f32, y as f32) + jitter);
+        let l = self.estimator.radiance(self.scene, ray, &mut wl, &mut sampler);
+        (l, wl)
+    }
+}
+
+impl<E: PixelEstimator> RenderMethod for PerPixel<'_, E> {
+    fn new_film(&self, width: u32, height: u32) -> Film {
+        Film::new(width, height)
+    }
+
+    fn max_pass(&self) -> u32 {
+        64
+    }
+
+    fn render_pass(&mut self, film: &mut Film, first: u32, count: u32, control: &PassControl) -> PassEnd {
+        let w = self.camera.width() as usize;
+        let (k, n) = self.shard;
+        let this = &*self;
+        let skipped: usize = film
+            .pixels
+            .par_chunks_mut(w)
+            .enumerate()
+            .map(|(y, row)| {
+                // an interrupted pass leaves the remaining rows with fewer samples
+                if (control.stop)() {
+                    return 1;
+                }
+                for (x, acc) in row.iter_mut().enumerate() {
+                    for s in first..first + count {
+                        let (l, wl) = this.sample(x as u32, y as u32, k + n * s);
+                        acc.add(&l, &wl);
+                    }
+                }
+                (control.progress)(w as u64 * count as u64);
+                0
+            })
+            .sum();
+        if skipped > 0 { PassEnd::Partial } else { PassEnd::Complete }
+    }
+
+    fn save_state(&self) -> Vec<u8> {
+        Vec::new()
+    }
+
+    fn restore_state(&mut self, bytes: &[u8]) -> Result<(), String> {
+        if bytes.is_empty() { Ok(()) } else { Err("the checkpoint holds another method's state".into()) }
+    }
+
+    fn header(&self) -> Vec<(String, String)> {
+        self.estimator.header()
+    }
+}
