@@ -13,7 +13,7 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use glam::{Vec2, Vec3};
 use quasar::core::sampling::uniform_sphere;
 use quasar::materials::spectrum::SampledWavelengths;
-use quasar::materials::tabulated::generate::{Tabulation, material_fn};
+use quasar::materials::tabulation::{Tabulation, material_fn};
 use quasar::materials::{Bsdf, ConductorFresnel, Ior, Material, TabulatedTable, TransportMode};
 
 const N: usize = 4096;

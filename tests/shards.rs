@@ -1,7 +1,7 @@
 //! Distributed rendering: `--shard K/N` renders disjoint shares of the samples (iterations) and
 //! `quasar merge` combines them into the full render — equal up to float summation order (the
 //! merge averages per-shard means weighted by their counts instead of summing the samples in one
-//! pass), for pt and for the bidirectional methods.
+//! pass), for every method of the method table.
 
 mod common;
 
@@ -25,16 +25,22 @@ fn ov(method: &str, shard: Option<(u32, u32)>) -> JobOverrides {
         shard,
         ..Default::default()
     }
-    .with_bidir_photons(method, 3000)
+    .with_photons_if_read(method, 3000)
 }
 
 trait Photons {
-    fn with_bidir_photons(self, method: &str, n: u32) -> Self;
+    fn with_photons_if_read(self, method: &str, n: u32) -> Self;
 }
 
 impl Photons for JobOverrides {
-    fn with_bidir_photons(self, method: &str, n: u32) -> Self {
-        if method == "pt" { self } else { self.with_param("photons_per_iteration", n) }
+    /// `photons_per_iteration = n` for the methods that read it.
+    fn with_photons_if_read(self, method: &str, n: u32) -> Self {
+        let entry = quasar::integrator::method::find(method).unwrap();
+        if entry.params.iter().any(|p| p.key == "photons_per_iteration") {
+            self.with_param("photons_per_iteration", n)
+        } else {
+            self
+        }
     }
 }
 
@@ -50,7 +56,7 @@ fn assert_close(merged: &ExrImage, full: &ExrImage, what: &str) {
 
 #[test]
 fn four_shards_merge_into_the_full_render() {
-    for method in ["pt", "vismap", "adaptive+quasi"] {
+    for method in quasar::integrator::method::METHODS.iter().map(|m| m.name) {
         let full = render_file(&scene(), &ov(method, None)).image;
         let shards: Vec<ExrImage> = (0..4).map(|k| render_file(&scene(), &ov(method, Some((k, 4)))).image).collect();
         for s in &shards {
@@ -74,12 +80,12 @@ fn merge_refuses_mismatched_renders() {
 }
 
 /// A render stopped and resumed from its checkpoint equals the uninterrupted render bit for bit,
-/// for pt and for the adaptive+quasi method (whose depth histograms are part of the state); a
-/// checkpoint of other settings is refused.
+/// for every method (the adaptive ones keep their depth histograms in the state); a checkpoint of
+/// other settings is refused.
 #[test]
 fn resume_equals_the_uninterrupted_render() {
     let dir = tempfile::tempdir().unwrap();
-    for method in ["pt", "adaptive+quasi"] {
+    for method in quasar::integrator::method::METHODS.iter().map(|m| m.name) {
         let cp = dir.path().join(format!("{method}.ckpt"));
         let full = render_file(&scene(), &ov(method, None)).image;
         let first = JobOverrides { spp: Some(3), checkpoint: Some(cp.clone()), ..ov(method, None) };

@@ -10,7 +10,7 @@ use std::path::Path;
 use common::{glossy_floor_scene, mean, rel_mse, render_file, write_scene};
 use quasar::importers::bsdf_file::to_toml;
 use quasar::materials::spectrum::Spectrum;
-use quasar::materials::tabulated::generate::{Tabulation, material_fn};
+use quasar::materials::tabulation::{Tabulation, material_fn};
 use quasar::materials::{ConductorFresnel, Material};
 use quasar::render::job::JobOverrides;
 

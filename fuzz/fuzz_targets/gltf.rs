@@ -13,14 +13,14 @@ fuzz_target!(|data: &[u8]| {
     if std::fs::write(&path, data).is_err() {
         return;
     }
-    if let Ok(desc) = import_gltf(&path, &ImportOptions::default()) {
-        for m in &desc.materials {
+    if let Ok(desc) = import_gltf(&path, &ImportOptions::default())
+        && let Ok(scene) = quasar::core::scene::Scene::compile(&desc)
+    {
+        for t in scene.material_textures.iter().flatten() {
             for uv in [glam::Vec2::ZERO, glam::Vec2::new(-3.7, 1e7), glam::Vec2::new(0.5, f32::NAN)] {
-                if let Some(p) = m.textures.params_at(&desc.textures, uv) {
-                    let _ = quasar::importers::pbr_material(&p);
-                }
+                let _ = quasar::materials::pbr_material(&t.params_at(&scene.textures, uv));
+                let _ = t.normal_at(&scene.textures, uv);
             }
         }
-        let _ = quasar::core::scene::Scene::compile(&desc);
     }
 });

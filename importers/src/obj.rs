@@ -39,9 +39,11 @@ use glam::Vec3;
 use quasar_materials::{ConductorFresnel, Ior, Material, spectrum::Spectrum};
 
 use crate::error::{ErrorPlace, ImportError, ImportErrorKind, did_you_mean};
-use crate::obj_lint::{self, MAX_OBJ_BYTES, MAX_SMALL_FILE_BYTES, MtlEntry};
-use crate::registry::{ImportOptions, Importer};
+use crate::importer::{Formats, ImportOptions, Importer};
+use crate::names::unique_name;
+use crate::obj_lint::{self, MAX_OBJ_BYTES, MtlEntry};
 use crate::scene_desc::{EmissionDesc, MaterialDesc, MeshDesc, SceneDesc, SourceLocation};
+use crate::small_text::read_small_text;
 
 /// The OBJ importer of the registry (`.obj`).
 #[derive(Clone, Copy, Debug, Default)]
@@ -52,7 +54,7 @@ impl Importer for ObjImporter {
         &["obj"]
     }
 
-    fn import(&self, path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportError> {
+    fn import(&self, path: &Path, opts: &ImportOptions, _: Formats<'_>) -> Result<SceneDesc, ImportError> {
         import_obj(path, opts, ObjMaterials::FromMtl)
     }
 }
@@ -77,39 +79,6 @@ const SENTINEL: &str = "<quasar-material-table>";
 
 fn grey_diffuse() -> Material {
     Material::Diffuse { reflectance: Spectrum::Constant(DEFAULT_GREY), two_sided: true }
-}
-
-/// Reads a small text file (MTL, CSV) with a size limit; errors name `file` only.
-pub(crate) fn read_small_text(file: &Path, what: &str) -> Result<String, ImportError> {
-    let f = File::open(file).map_err(|e| ImportError::io(file, &format!("cannot open {what}"), e))?;
-    let len = f.metadata().map(|m| m.len()).unwrap_or(0);
-    if len > MAX_SMALL_FILE_BYTES {
-        return Err(ImportError::new(
-            ImportErrorKind::TooLarge,
-            ErrorPlace::file(file),
-            format!("{what} is {len} bytes, more than the limit of {MAX_SMALL_FILE_BYTES}"),
-        ));
-    }
-    let mut bytes = Vec::new();
-    f.take(MAX_SMALL_FILE_BYTES + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| ImportError::io(file, &format!("cannot read {what}"), e))?;
-    if bytes.len() as u64 > MAX_SMALL_FILE_BYTES {
-        return Err(ImportError::new(
-            ImportErrorKind::TooLarge,
-            ErrorPlace::file(file),
-            format!("{what} is more than the limit of {MAX_SMALL_FILE_BYTES} bytes"),
-        ));
-    }
-    let mut text = String::from_utf8(bytes).map_err(|e| {
-        let good = &e.as_bytes()[..e.utf8_error().valid_up_to()];
-        let line = good.iter().filter(|&&b| b == b'\n').count() + 1;
-        ImportError::new(ImportErrorKind::Syntax, ErrorPlace::line(file, line), "not valid UTF-8")
-    })?;
-    if text.starts_with('\u{feff}') {
-        text.drain(..'\u{feff}'.len_utf8());
-    }
-    Ok(text)
 }
 
 /// Opens `file` for buffered reading, past a UTF-8 byte order mark if there is one.
@@ -397,14 +366,6 @@ pub fn import_obj(path: &Path, opts: &ImportOptions, materials: ObjMaterials) ->
     })
 }
 
-/// `base`, or `base#2`, `base#3`, ... : the first that `taken` rejects.
-pub(crate) fn unique_name(base: &str, taken: impl Fn(&str) -> bool) -> String {
-    if !taken(base) {
-        return base.to_owned();
-    }
-    (2..).map(|i| format!("{base}#{i}")).find(|n| !taken(n)).unwrap_or_default()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -415,11 +376,5 @@ mod tests {
         assert_eq!(phong_to_alpha(Some(1000.0)), 0.0);
         assert!((phong_to_alpha(Some(0.0)) - 1.0).abs() < 1e-6);
         assert!((phong_to_alpha(Some(98.0)) - 0.141_421_36).abs() < 1e-6);
-    }
-
-    #[test]
-    fn unique_names() {
-        assert_eq!(unique_name("a", |_| false), "a");
-        assert_eq!(unique_name("a", |n| n == "a" || n == "a#2"), "a#3");
     }
 }

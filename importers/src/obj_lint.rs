@@ -13,8 +13,6 @@ use crate::error::{ErrorPlace, ImportError, ImportErrorKind};
 
 /// Largest OBJ file accepted (bytes).
 pub const MAX_OBJ_BYTES: u64 = 2 << 30;
-/// Largest MTL or CSV file accepted (bytes).
-pub const MAX_SMALL_FILE_BYTES: u64 = 64 << 20;
 /// Longest line accepted in an OBJ file (bytes).
 pub const MAX_OBJ_LINE_BYTES: u64 = 64 << 20;
 /// Largest number of triangles (after fan triangulation) accepted in one OBJ file.

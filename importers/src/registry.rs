@@ -4,80 +4,47 @@
 
 use std::path::Path;
 
-use crate::error::{ErrorPlace, ImportError, ImportErrorKind};
+use crate::error::ImportError;
 use crate::gltf::GltfImporter;
+use crate::importer::{Formats, ImportOptions, Importer};
 use crate::obj::ObjImporter;
 use crate::scene_desc::SceneDesc;
-use crate::toml_scene::TomlSceneImporter;
-
-/// Options shared by all importers.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct ImportOptions {
-    /// Extra factor applied to every length after the file's own units are converted to metres
-    /// (`None` = 1). Must be finite and > 0.
-    pub units_scale: Option<f32>,
-    /// Let glTF files refer to external files by absolute paths or by relative paths that leave
-    /// the glTF file's folder (refused by default; CLI `--allow-external-paths`).
-    pub allow_external_paths: bool,
-}
-
-impl ImportOptions {
-    /// The validated extra scale (1 when unset).
-    pub fn scale(&self, file: &Path) -> Result<f32, ImportError> {
-        match self.units_scale {
-            None => Ok(1.0),
-            Some(s) if s.is_finite() && s > 0.0 => Ok(s),
-            Some(s) => Err(ImportError::new(
-                ImportErrorKind::InvalidValue,
-                ErrorPlace::file(file),
-                format!("units scale must be finite and > 0, got {s}"),
-            )),
-        }
-    }
-}
-
-/// A scene file format.
-pub trait Importer: Sync {
-    /// The lower-case file extensions (without the dot) this importer handles.
-    fn extensions(&self) -> &[&str];
-
-    /// Reads the file at `path` into a [`SceneDesc`] (lengths in metres, times `opts.units_scale`).
-    fn import(&self, path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportError>;
-}
+use crate::toml_scene::{self, TomlSceneImporter};
 
 /// The table of importers, searched in order by [`importer_for`].
 pub static IMPORTERS: &[&dyn Importer] = &[&TomlSceneImporter, &ObjImporter, &GltfImporter];
 
+/// Every format of [`IMPORTERS`].
+pub fn formats() -> Formats<'static> {
+    Formats(IMPORTERS)
+}
+
 /// The importer registered for the extension of `path` (case-insensitive), if any.
 pub fn importer_for(path: &Path) -> Option<&'static dyn Importer> {
-    let ext = path.extension()?.to_str()?.to_ascii_lowercase();
-    IMPORTERS.iter().copied().find(|imp| imp.extensions().contains(&ext.as_str()))
+    formats().for_path(path)
 }
 
 /// All extensions that some importer handles, in table order.
 pub fn supported_extensions() -> Vec<&'static str> {
-    IMPORTERS.iter().flat_map(|imp| imp.extensions().iter().copied()).collect()
+    formats().extensions()
 }
 
 /// Imports the scene file at `path` with the importer registered for its extension.
 pub fn import_scene(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportError> {
-    match importer_for(path) {
-        Some(imp) => imp.import(path, opts),
-        None => Err(ImportError::new(
-            ImportErrorKind::Unsupported,
-            ErrorPlace::file(path),
-            format!(
-                "unsupported scene format (extension {:?}); supported extensions: {}",
-                path.extension().map(|e| e.to_string_lossy().into_owned()).unwrap_or_default(),
-                supported_extensions().iter().map(|e| format!(".{e}")).collect::<Vec<_>>().join(", ")
-            ),
-        )),
-    }
+    formats().import(path, opts)
+}
+
+/// Imports TOML scene text as if it were the file `path` (for messages and to resolve relative
+/// file names against `path`'s directory); its includes may be of any format.
+pub fn parse_toml_scene(text: &str, path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportError> {
+    toml_scene::parse_toml_scene(text, path, opts, formats())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::ImportErrorKind;
+    use crate::importer::ImportOptions;
 
     #[test]
     fn chooses_by_extension_case_insensitively() {

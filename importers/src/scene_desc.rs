@@ -8,31 +8,12 @@ use glam::{Vec2, Vec3};
 use quasar_materials::{Material, spectrum::Spectrum};
 
 use crate::error::ErrorPlace;
+pub use crate::source::SourceLocation;
 pub use crate::texture_desc::{MaterialTextures, TextureDesc, TextureRef, TextureWrap};
 
-/// Where a scene element came from, for error messages and `quasar info`.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct SourceLocation {
-    /// The file.
-    pub file: PathBuf,
-    /// 1-based line, when known.
-    pub line: Option<usize>,
-    /// A path inside the file (TOML key path, JSON pointer, OBJ group), when known.
-    pub item: Option<String>,
-}
-
-impl std::fmt::Display for SourceLocation {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}", self.file.display())?;
-        if let Some(l) = self.line {
-            write!(f, ":{l}")?;
-        }
-        if let Some(i) = &self.item {
-            write!(f, " ({i})")?;
-        }
-        Ok(())
-    }
-}
+/// Largest number of triangles in one scene (every importer counts its shapes, includes and
+/// instances against it before generating them).
+pub const MAX_SCENE_TRIANGLES: u64 = 1 << 28;
 
 /// A named material.
 #[derive(Clone, Debug, PartialEq)]

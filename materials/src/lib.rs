@@ -8,13 +8,16 @@ pub mod bsdf;
 pub mod frame;
 pub mod material;
 pub mod non_uniformity;
+pub mod pbr;
 pub mod spectrum;
 pub mod tabulated;
+pub mod tabulation;
 pub mod warp;
 
 pub use bsdf::microfacet::Masking;
-pub use bsdf::{Bsdf, BsdfSample, Lobe, TransportMode};
+pub use bsdf::{Bsdf, BsdfSample, Lobe, TabulatedBsdf, TransportMode};
 pub use frame::Frame;
 pub use material::{ConductorFresnel, Ior, Material};
 pub use non_uniformity::{NARROW_KAPPA, NonUniformity};
-pub use tabulated::{TabulatedBsdf, TabulatedSpec, TabulatedTable};
+pub use pbr::{PbrParams, pbr_material, pbr_material_at};
+pub use tabulated::{TabulatedSpec, TabulatedTable};

@@ -4,8 +4,9 @@ use crate::bsdf::microfacet::Masking;
 use crate::bsdf::{Bsdf, ConductorBsdf, DielectricBsdf, DiffuseBsdf, SampledFresnel, TrowbridgeReitz};
 use std::sync::Arc;
 
+use crate::bsdf::TabulatedBsdf;
 use crate::spectrum::{LAMBDA_MAX, LAMBDA_MIN, SampledWavelengths, Spectrum};
-use crate::tabulated::{TabulatedBsdf, TabulatedTable};
+use crate::tabulated::TabulatedTable;
 
 /// Fresnel reflectance model of a conductor.
 #[derive(Clone, Debug, PartialEq)]

@@ -13,7 +13,7 @@ use quasar_materials::bsdf::{ConductorBsdf, DielectricBsdf, DiffuseBsdf, Sampled
 use quasar_materials::spectrum::SampledSpectrum;
 use quasar_materials::spectrum::{SampledWavelengths, Spectrum};
 use quasar_materials::tabulated::ScatterGrid;
-use quasar_materials::tabulated::generate::{GridSpec, Tabulation, material_fn, power_spaced, uniform_phi};
+use quasar_materials::tabulation::{GridSpec, Tabulation, material_fn, power_spaced, uniform_phi};
 use quasar_materials::{Bsdf, ConductorFresnel, Ior, Material, TabulatedBsdf, TabulatedTable};
 
 /// Samples per configuration.

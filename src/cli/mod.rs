@@ -1,6 +1,7 @@
 //! The `quasar` command line: argument definitions (clap) and their dispatch to the library.
 //! No rendering, conversion or report logic lives here.
 
+mod interrupt;
 mod parse;
 mod render;
 

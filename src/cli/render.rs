@@ -169,7 +169,7 @@ pub fn render(args: RenderArgs) -> Result<()> {
         quiet,
     } = args;
     let desc = super::load(&scene, &ImportOptions { allow_external_paths, units_scale: units })?;
-    quasar::render::interrupt::install_handler();
+    super::interrupt::install_handler();
     let ov = JobOverrides {
         width,
         height,

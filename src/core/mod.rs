@@ -1,5 +1,6 @@
-//! The render-time scene: geometry and its BVH, camera, lights (with environment maps) and the
-//! random numbers and warps every integrator samples with. Depends on nothing else of the crate.
+//! The render-time scene: geometry and its BVH, camera, lights (with environment maps),
+//! textures, and the random numbers and warps every integrator samples with. Depends on nothing
+//! else of the crate.
 
 pub mod bytes;
 pub mod camera;
@@ -8,3 +9,4 @@ pub mod geometry;
 pub mod light;
 pub mod sampling;
 pub mod scene;
+pub mod texture;

@@ -4,13 +4,15 @@
 use std::borrow::Cow;
 
 use glam::{Vec2, Vec3};
-use quasar_importers::{LightDesc, MaterialTextures, SceneDesc, TextureDesc, pbr_material_at};
+use quasar_importers::{LightDesc, SceneDesc};
+use quasar_materials::pbr_material_at;
 use quasar_materials::spectrum::SampledWavelengths;
 use quasar_materials::{Bsdf, Frame, Material, NonUniformity};
 use rayon::prelude::*;
 
 use crate::core::geometry::{Accel, Hit, NONE, Ray, TriangleGeom, TriangleInfo};
 use crate::core::light::{Emission, Light, LightSampler};
+use crate::core::texture::{ImageTexture, TexturedMaterial};
 
 /// Error compiling a scene description.
 #[derive(Debug, thiserror::Error)]
@@ -149,10 +151,10 @@ pub struct Scene {
     pub normals: Vec<Vec3>,
     /// Per-vertex texture coordinates, three per triangle with a textured material.
     pub uvs: Vec<Vec2>,
-    /// Textures (plain data from the scene description).
-    pub textures: Vec<TextureDesc>,
-    /// Textures of each material (same order as `materials`; empty for most).
-    pub material_textures: Vec<MaterialTextures>,
+    /// Image textures.
+    pub textures: Vec<ImageTexture>,
+    /// The textured form of each material (same order as `materials`; None for most).
+    pub material_textures: Vec<Option<TexturedMaterial>>,
     /// Centre of the bounding sphere.
     pub center: Vec3,
     /// Radius of the bounding sphere.
@@ -316,8 +318,8 @@ impl Scene {
             light_sampler,
             normals,
             uvs,
-            textures: desc.textures.clone(),
-            material_textures: desc.materials.iter().map(|m| m.textures.clone()).collect(),
+            textures: desc.textures.iter().map(ImageTexture::new).collect(),
+            material_textures: desc.materials.iter().map(|m| TexturedMaterial::new(&m.textures)).collect(),
             center,
             radius,
             masking: desc.render.masking,
@@ -356,7 +358,9 @@ impl Scene {
         if info.uvs != NONE {
             let t = &self.uvs[info.uvs as usize..info.uvs as usize + 3];
             uv = t[0] * (1.0 - h.b1 - h.b2) + t[1] * h.b1 + t[2] * h.b2;
-            if let Some(n) = self.material_textures[info.material as usize].normal_at(&self.textures, uv) {
+            if let Some(n) =
+                self.material_textures[info.material as usize].as_ref().and_then(|t| t.normal_at(&self.textures, uv))
+            {
                 ns = normal_mapped(g, t, ns, ng, n);
             }
         }
@@ -369,10 +373,7 @@ impl Scene {
     pub fn material_at(&self, si: &SurfaceInteraction) -> Cow<'_, Material> {
         let m = si.material as usize;
         match self.material_textures.get(m) {
-            Some(t) if !t.is_empty() => match t.params_at(&self.textures, si.uv) {
-                Some(p) => Cow::Owned(pbr_material_at(&p)),
-                None => Cow::Borrowed(&self.materials[m]),
-            },
+            Some(Some(t)) => Cow::Owned(pbr_material_at(&t.params_at(&self.textures, si.uv))),
             _ => Cow::Borrowed(&self.materials[m]),
         }
     }

@@ -11,6 +11,10 @@ use quasar_materials::spectrum::SampledWavelengths;
 use quasar_materials::spectrum::color::xyz_to_linear_srgb;
 use rayon::prelude::*;
 
+/// The epsilon of relative errors, (a - r)^2 / (r^2 + REL_EPS): keeps black pixels from
+/// dominating the film's error estimate and `quasar compare`'s relMSE (in Y units, where a
+/// flat spectral radiance of 1 gives Y = 1).
+pub const REL_EPS: f64 = 1e-3;
 /// Number of radiance layers (emission, direct, indirect, caustic).
 pub const N_LAYERS: usize = 4;
 /// Names of the radiance layers, in accumulation order.
@@ -275,7 +279,7 @@ impl Film {
             .map(|p| {
                 let y: f64 = p.xyz[..BEAUTY_LAYERS].iter().map(|l| l[1]).sum::<f64>() / p.samples as f64;
                 let e = p.stderr_y();
-                e * e / (y * y + crate::tools::compare::REL_EPS)
+                e * e / (y * y + REL_EPS)
             })
             .sum();
         (sum / self.pixels.len().max(1) as f64).sqrt()
@@ -307,7 +311,7 @@ mod tests {
         assert!(film.estimated_rel_error().is_infinite());
         film.pixels[0] = p;
         let y = 2.0 * unit as f64;
-        let expected = (unit as f64 * unit as f64 / (y * y + crate::tools::compare::REL_EPS)).sqrt();
+        let expected = (unit as f64 * unit as f64 / (y * y + REL_EPS)).sqrt();
         assert!((film.estimated_rel_error() - expected).abs() < 1e-6);
     }
 }

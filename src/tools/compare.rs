@@ -23,8 +23,7 @@ pub struct LayerError {
     pub means: (f64, f64),
 }
 
-/// The epsilon of [`LayerError::rel_mse`] and [`LayerError::mean_rel_error`].
-pub const REL_EPS: f64 = 1e-3;
+pub use crate::film::REL_EPS;
 
 /// Relative MSE of `a` against `r` (see [`LayerError::rel_mse`]).
 pub fn rel_mse(a: &[f32], r: &[f32]) -> f64 {

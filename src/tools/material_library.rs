@@ -12,8 +12,8 @@ use std::f32::consts::{FRAC_1_PI, PI};
 use glam::Vec3;
 use quasar_materials::bsdf::fresnel::{fr_complex, fr_dielectric};
 use quasar_materials::spectrum::Spectrum;
-use quasar_materials::tabulated::generate::{GridSpec, Tabulation, material_fn, power_spaced};
 use quasar_materials::tabulated::{BackFace, Face, ScatterGrid};
+use quasar_materials::tabulation::{GridSpec, Tabulation, material_fn, power_spaced};
 use quasar_materials::{ConductorFresnel, Ior, Material, TabulatedSpec};
 
 /// One library file.

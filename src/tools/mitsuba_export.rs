@@ -243,7 +243,7 @@ pub fn write(desc: &SceneDesc, dir: &Path, width: u32, height: u32, spp: u32) ->
 mod tests {
     use super::*;
     use quasar_importers::ImportOptions;
-    use quasar_importers::toml_scene::parse_toml_scene;
+    use quasar_importers::parse_toml_scene;
 
     fn desc(extra: &str) -> SceneDesc {
         let text = format!(

@@ -5,7 +5,7 @@
 //! Errors name the file, line and column, the table (`front.brdf`) and the entry
 //! (`values[wavelength][phi_i][theta_i][theta][phi]`). Grid sizes are checked against
 //! [`MAX_TABLE_ENTRIES`] before the values are read, and files above
-//! [`MAX_SMALL_FILE_BYTES`](crate::MAX_SMALL_FILE_BYTES) are refused before they are read.
+//! [`MAX_SMALL_FILE_BYTES`](crate::small_text::MAX_SMALL_FILE_BYTES) are refused before they are read.
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -16,8 +16,8 @@ use quasar_materials::{TabulatedSpec, TabulatedTable};
 use toml::de::DeValue;
 
 use crate::error::{ErrorPlace, ImportError, ImportErrorKind};
-use crate::obj::read_small_text;
-use crate::toml_scene::reader::{Doc, Span, Tbl, Val, float_list, number, parse_document};
+use crate::small_text::read_small_text;
+use crate::toml_reader::{Doc, Span, Tbl, Val, float_list, number, parse_document};
 
 mod write;
 pub mod zemax;
@@ -121,7 +121,7 @@ pub fn parse_spec(text: &str, path: &Path) -> Result<(TabulatedSpec, HashMap<Str
     }
     if let Some(p) = top.opt_table("provenance")? {
         for (k, v) in p.entries() {
-            crate::toml_scene::reader::string(&doc, v, &p.key_path(k.get_ref()))?;
+            crate::toml_reader::string(&doc, v, &p.key_path(k.get_ref()))?;
         }
     }
     top.opt_str("description")?;
@@ -262,7 +262,7 @@ fn flatten(
         }
         _ => Err(doc.invalid(
             &v.span(),
-            format!("`{what}` must hold numbers (1/sr), got {}", crate::toml_scene::reader::type_name(v.get_ref())),
+            format!("`{what}` must hold numbers (1/sr), got {}", crate::toml_reader::type_name(v.get_ref())),
         )),
     }
 }

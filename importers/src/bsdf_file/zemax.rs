@@ -23,7 +23,7 @@ use quasar_materials::TabulatedSpec;
 use quasar_materials::tabulated::{BackFace, Face, MAX_AXIS_LEN, ScatterGrid, ScatterTable};
 
 use crate::error::{ErrorPlace, ImportError, ImportErrorKind};
-use crate::obj::read_small_text;
+use crate::small_text::read_small_text;
 
 /// A converted file: the spec plus warnings (dropped information).
 #[derive(Clone, Debug, PartialEq)]

@@ -1,5 +1,5 @@
 //! glTF materials -> [`MaterialDesc`] (via [`pbr_material`]) plus area emission and textures.
-//! The mapping is documented in `crate::pbr` and `docs/gltf.md`.
+//! The mapping is documented in `quasar_materials::pbr` and `docs/gltf.md`.
 
 use std::path::Path;
 
@@ -7,11 +7,11 @@ use quasar_materials::spectrum::Spectrum;
 
 use super::texture::TextureLoader;
 use crate::error::ImportError;
-use crate::obj::unique_name;
-use crate::pbr::{PbrParams, pbr_material};
+use crate::names::unique_name;
 use crate::photometric::photometric_scale;
 use crate::scene_desc::{EmissionDesc, MaterialDesc, SourceLocation};
 use crate::texture_desc::MaterialTextures;
+use quasar_materials::{PbrParams, pbr_material};
 
 /// A converted material with the emission its meshes get.
 pub(super) struct Converted {
@@ -78,7 +78,7 @@ pub(super) fn convert(
     }
     // KHR_materials_volume: no participating media in the core; attenuation and thickness are
     // ignored (the glass is clear). KHR_materials_specular: the dielectric specular layer is not
-    // modelled (see crate::pbr), so specular factors do not change the mapped material.
+    // modelled (see quasar_materials::pbr), so specular factors do not change the mapped material.
     let mut textures = MaterialTextures::default();
     if let Some(info) = pbr.base_color_texture() {
         textures.base_color = Some(loader.reference(&info, &format!("{ptr}/pbrMetallicRoughness/baseColorTexture"))?);

@@ -40,7 +40,7 @@ use self::accessor::Buffers;
 use self::nodes::{Walker, finish_cameras, framing_camera};
 use self::texture::TextureLoader;
 use crate::error::{ErrorPlace, ImportError, ImportErrorKind};
-use crate::registry::{ImportOptions, Importer};
+use crate::importer::{Formats, ImportOptions, Importer};
 use crate::scene_desc::{MaterialDesc, NamedCamera, SceneDesc};
 use crate::texture_desc::MaterialTextures;
 
@@ -64,7 +64,7 @@ impl Importer for GltfImporter {
         &["gltf", "glb"]
     }
 
-    fn import(&self, path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportError> {
+    fn import(&self, path: &Path, opts: &ImportOptions, _: Formats<'_>) -> Result<SceneDesc, ImportError> {
         import_gltf(path, opts)
     }
 }
@@ -256,7 +256,7 @@ pub fn import_gltf(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Impor
         // lights only: meshes refer to nothing, but keep the table non-empty for consistency
         materials.push(MaterialDesc {
             name: "gltf-default".into(),
-            material: crate::pbr::pbr_material(&Default::default()),
+            material: quasar_materials::pbr_material(&Default::default()),
             textures: MaterialTextures::default(),
             source: Default::default(),
         });
@@ -276,7 +276,7 @@ pub fn import_gltf(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Impor
         finish_cameras(collected.cameras, center)
             .into_iter()
             .map(|(name, camera, aspect)| {
-                let name = crate::obj::unique_name(&name, |n| names.iter().any(|x| x == n));
+                let name = crate::names::unique_name(&name, |n| names.iter().any(|x| x == n));
                 names.push(name.clone());
                 NamedCamera { name, camera, aspect }
             })

@@ -16,8 +16,8 @@ use super::accessor::Buffers;
 use super::err;
 use crate::error::{ImportError, ImportErrorKind};
 use crate::photometric::photometric_scale;
+use crate::scene_desc::MAX_SCENE_TRIANGLES;
 use crate::scene_desc::{CameraDesc, FovAxis, LightDesc, MeshDesc, SourceLocation};
-use crate::toml_scene::MAX_SCENE_TRIANGLES;
 use crate::transform::transform_mesh;
 use quasar_materials::spectrum::Spectrum;
 

@@ -12,7 +12,7 @@ use base64::Engine;
 
 use super::err;
 use crate::error::{ImportError, ImportErrorKind};
-use crate::registry::ImportOptions;
+use crate::importer::ImportOptions;
 
 /// Largest glTF/GLB file and largest single buffer or image file accepted (bytes).
 pub const MAX_GLTF_BUFFER_BYTES: u64 = 2 << 30;

@@ -11,7 +11,7 @@ use gltf::texture::{MagFilter, WrappingMode};
 use super::err;
 use super::source::uri_bytes;
 use crate::error::{ImportError, ImportErrorKind};
-use crate::registry::ImportOptions;
+use crate::importer::ImportOptions;
 use crate::scene_desc::SourceLocation;
 use crate::texture_desc::{TextureDesc, TextureRef, TextureWrap};
 

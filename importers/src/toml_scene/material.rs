@@ -4,9 +4,9 @@
 use quasar_materials::{ConductorFresnel, Ior, Material};
 use toml::de::DeValue;
 
-use super::reader::{Tbl, Val, float, floats, string};
 use super::spectrum::{SpectrumUse, spectrum};
 use crate::error::{ImportError, ImportErrorKind, did_you_mean};
+use crate::toml_reader::{Tbl, Val, float, floats, string};
 
 /// Material types of the TOML format.
 pub const MATERIAL_TYPES: [&str; 3] = ["diffuse", "conductor", "dielectric"];
@@ -31,7 +31,7 @@ pub(crate) fn material(t: &Tbl<'_>) -> Result<Material, ImportError> {
     let doc = t.doc;
     if let Some(v) = t.get("file") {
         t.check_keys(&["file"])?;
-        let name = super::reader::string(doc, v, &t.key_path("file"))?;
+        let name = crate::toml_reader::string(doc, v, &t.key_path("file"))?;
         let path = doc.resolve(name);
         if !path.is_file() {
             return Err(doc.error(
@@ -144,7 +144,7 @@ fn ior(t: &Tbl<'_>, v: &Val<'_>) -> Result<Ior, ImportError> {
             &v.span(),
             format!(
                 "`{what}` must be a number, a glass name or a dispersion table, got {}",
-                super::reader::type_name(other)
+                crate::toml_reader::type_name(other)
             ),
         )),
     }

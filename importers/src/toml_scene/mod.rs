@@ -5,8 +5,8 @@
 //! unknown material, invalid material parameters, missing referenced file — names the scene
 //! file, line and column of the offending key, value or table.
 
+mod include;
 mod material;
-pub(crate) mod reader;
 mod settings;
 mod shape;
 mod spectrum;
@@ -23,23 +23,21 @@ pub use material::MATERIAL_TYPES;
 pub use shape::{DEFAULT_DISK_SEGMENTS, DEFAULT_SPHERE_SUBDIVISIONS, MAX_DISK_SEGMENTS, MAX_SPHERE_SUBDIVISIONS};
 pub use spectrum::{MAX_SPECTRUM_ENTRIES, csv_spectrum};
 
-use self::reader::{Doc, Tbl, Val, parse_document, string};
 use crate::error::{ErrorPlace, ImportError, ImportErrorKind, did_you_mean};
-use crate::glob::glob_match;
-use crate::obj::{ObjMaterials, import_obj, read_small_text, unique_name};
-use crate::registry::{ImportOptions, Importer, importer_for, supported_extensions};
+use crate::importer::{Formats, ImportOptions, Importer};
+use crate::names::unique_name;
 use crate::scene_desc::{
-    CameraDesc, LightDesc, MaterialDesc, MeshDesc, NamedCamera, SceneDesc, SourceLocation, TextureDesc,
+    CameraDesc, LightDesc, MAX_SCENE_TRIANGLES, MaterialDesc, MeshDesc, NamedCamera, SceneDesc, SourceLocation,
+    TextureDesc,
 };
-use crate::transform::{flip_mesh, transform_camera, transform_light, transform_mesh};
+use crate::small_text::read_small_text;
+use crate::toml_reader::{Doc, Tbl, parse_document, string};
+use crate::transform::{flip_mesh, transform_mesh};
 
-/// Integration methods accepted by `[render] method`.
 /// Length units accepted by `units`, with their size in metres.
 pub const UNITS: [(&str, f32); 5] = [("m", 1.0), ("cm", 0.01), ("mm", 0.001), ("in", 0.0254), ("ft", 0.3048)];
 /// How deep TOML scenes may include TOML scenes (guards against include cycles).
 pub const MAX_INCLUDE_DEPTH: u32 = 8;
-/// Largest number of triangles in one scene (shapes and includes together).
-pub const MAX_SCENE_TRIANGLES: u64 = 1 << 28;
 /// Shape types of `[[shape]]`.
 pub const SHAPE_TYPES: [&str; 4] = ["mesh", "quad", "sphere", "disk"];
 /// Light types of `[[light]]`.
@@ -56,28 +54,39 @@ impl Importer for TomlSceneImporter {
         &["toml"]
     }
 
-    fn import(&self, path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportError> {
-        import_toml_scene(path, opts)
+    fn import(&self, path: &Path, opts: &ImportOptions, formats: Formats<'_>) -> Result<SceneDesc, ImportError> {
+        import_at_depth(path, opts, formats, 0)
     }
 }
 
-/// Reads and imports the TOML scene file at `path`.
-pub fn import_toml_scene(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportError> {
-    import_at_depth(path, opts, 0)
-}
-
 /// Imports TOML scene text as if it were the file `path` (used for messages and to resolve
-/// relative file names against `path`'s directory).
-pub fn parse_toml_scene(text: &str, path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportError> {
-    parse_at_depth(text, path, opts, 0)
+/// relative file names against `path`'s directory); included files are imported with `formats`.
+pub fn parse_toml_scene(
+    text: &str,
+    path: &Path,
+    opts: &ImportOptions,
+    formats: Formats<'_>,
+) -> Result<SceneDesc, ImportError> {
+    parse_at_depth(text, path, opts, formats, 0)
 }
 
-fn import_at_depth(path: &Path, opts: &ImportOptions, depth: u32) -> Result<SceneDesc, ImportError> {
+fn import_at_depth(
+    path: &Path,
+    opts: &ImportOptions,
+    formats: Formats<'_>,
+    depth: u32,
+) -> Result<SceneDesc, ImportError> {
     let text = read_small_text(path, "scene file")?;
-    parse_at_depth(&text, path, opts, depth)
+    parse_at_depth(&text, path, opts, formats, depth)
 }
 
-fn parse_at_depth(text: &str, path: &Path, opts: &ImportOptions, depth: u32) -> Result<SceneDesc, ImportError> {
+fn parse_at_depth(
+    text: &str,
+    path: &Path,
+    opts: &ImportOptions,
+    formats: Formats<'_>,
+    depth: u32,
+) -> Result<SceneDesc, ImportError> {
     let extra = opts.scale(path)?;
     let root = parse_document(text, path)?;
     let doc = Doc::new(path, text);
@@ -90,6 +99,7 @@ fn parse_at_depth(text: &str, path: &Path, opts: &ImportOptions, depth: u32) -> 
         extra,
         unit: scene_unit * extra,
         depth,
+        formats,
         materials: Vec::new(),
         by_name: HashMap::new(),
         toml_materials: HashMap::new(),
@@ -150,7 +160,7 @@ fn tables<'a>(top: &Tbl<'a>, key: &str) -> Result<Vec<Tbl<'a>>, ImportError> {
         )),
         other => Err(top.doc.invalid(
             &v.span(),
-            format!("`{key}` must be an array of tables ([[{key}]]), got {}", reader::type_name(other)),
+            format!("`{key}` must be an array of tables ([[{key}]]), got {}", crate::toml_reader::type_name(other)),
         )),
     }
 }
@@ -170,7 +180,10 @@ struct Builder<'a> {
     extra: f32,
     /// `scene_unit * extra`: converts scene lengths to output metres.
     unit: f32,
+    /// How deep this file is included (0: the scene file itself).
     depth: u32,
+    /// The formats an include may have.
+    formats: Formats<'a>,
     materials: Vec<MaterialDesc>,
     /// Every material name in `materials` -> index.
     by_name: HashMap<String, usize>,
@@ -416,120 +429,6 @@ impl<'a> Builder<'a> {
         Ok(shape::quad(center - 0.5 * (e1 + e2), e1, e2))
     }
 
-    /// Imports the file named by `t.file` (OBJ, TOML or any registered format) and places it:
-    /// file units, then `xf`. Returns the meshes (with their source material names) and lights.
-    #[allow(clippy::type_complexity)]
-    fn import_file(
-        &mut self,
-        t: &Tbl<'_>,
-        material: Option<usize>,
-        xf: Affine3A,
-    ) -> Result<(Vec<(MeshDesc, String)>, Vec<LightDesc>), ImportError> {
-        let doc = self.doc;
-        let fv: &Val<'_> = t.req("file")?;
-        let name = string(doc, fv, &t.key_path("file"))?;
-        let path = doc.resolve(name);
-        let here = doc.place(&fv.span());
-        if !path.is_file() {
-            return Err(doc.error(
-                ImportErrorKind::MissingFile,
-                &fv.span(),
-                format!("`{}`: cannot find `{name}` (looked for {})", t.key_path("file"), path.display()),
-            ));
-        }
-        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
-        let plain = ImportOptions::default();
-        let sub = if ext == "toml" {
-            if t.has("units") {
-                return Err(doc.invalid(
-                    &t.key_span("units"),
-                    format!("`{}`: an included TOML scene declares its own `units`", t.path),
-                ));
-            }
-            if self.depth >= MAX_INCLUDE_DEPTH {
-                return Err(doc.error(
-                    ImportErrorKind::TooLarge,
-                    &fv.span(),
-                    format!("TOML scenes nested more than {MAX_INCLUDE_DEPTH} deep (an include cycle?)"),
-                ));
-            }
-            import_at_depth(&path, &plain, self.depth + 1)
-        } else if ext == "obj" {
-            let mode = if material.is_some() { ObjMaterials::NamesOnly } else { ObjMaterials::FromMtl };
-            import_obj(&path, &plain, mode)
-        } else if let Some(imp) = importer_for(&path) {
-            imp.import(&path, &plain)
-        } else {
-            let exts: Vec<String> = supported_extensions().iter().map(|e| format!(".{e}")).collect();
-            return Err(doc.error(
-                ImportErrorKind::Unsupported,
-                &fv.span(),
-                format!("`{name}`: unsupported file type; supported: {}", exts.join(", ")),
-            ));
-        }
-        .map_err(|e| e.included_from(here))?;
-        // OBJ has no units: it uses the scene's unless `units` says otherwise.
-        // Other formats (TOML, later glTF) are already in metres.
-        let file_unit = match units(t, "units")? {
-            Some(u) => u,
-            None if ext == "obj" => self.scene_unit,
-            None => 1.0,
-        };
-        let m = xf * Affine3A::from_scale(Vec3::splat(file_unit * self.extra));
-        let file_name = path.file_name().map_or_else(|| name.to_owned(), |n| n.to_string_lossy().into_owned());
-        let orig_names: Vec<String> = sub.materials.iter().map(|m| m.name.clone()).collect();
-        let mut remap = Vec::with_capacity(sub.materials.len());
-        let tex_base = self.textures.len();
-        if material.is_none() {
-            self.textures.extend(sub.textures);
-        }
-        for mut md in sub.materials {
-            if material.is_some() {
-                remap.push(usize::MAX);
-                continue;
-            }
-            for r in [&mut md.textures.base_color, &mut md.textures.metallic_roughness].into_iter().flatten() {
-                r.texture += tex_base;
-            }
-            let nm = unique_name(&format!("{file_name}:{}", md.name), |n| self.by_name.contains_key(n));
-            remap.push(self.add_material(MaterialDesc { name: nm, ..md }));
-        }
-        for mut c in sub.cameras {
-            transform_camera(&mut c.camera, &m);
-            self.cameras.push(c);
-        }
-        self.warnings.extend(sub.warnings);
-        let mut meshes = Vec::with_capacity(sub.meshes.len());
-        for mut mesh in sub.meshes {
-            let Some(orig) = orig_names.get(mesh.material).cloned() else {
-                return Err(
-                    doc.invalid(&fv.span(), format!("`{name}`: mesh `{}` refers to a missing material", mesh.name))
-                );
-            };
-            mesh.material = material.unwrap_or(remap[mesh.material]);
-            transform_mesh(&mut mesh, &m);
-            meshes.push((mesh, orig));
-        }
-        let mut lights = sub.lights;
-        for l in &mut lights {
-            transform_light(l, &m);
-        }
-        Ok((meshes, lights))
-    }
-
-    fn include(&mut self, t: &Tbl<'a>) -> Result<(), ImportError> {
-        t.check_keys(&["file", "transform", "units", "material"])?;
-        let xf = self.transform(t)?;
-        let material = self.material_ref(t, "material")?;
-        let (meshes, lights) = self.import_file(t, material, xf)?;
-        self.reserve_triangles(t, meshes.iter().map(|(m, _)| m.indices.len() as u64).sum())?;
-        for (m, orig) in meshes {
-            self.push_mesh(t, m, orig)?;
-        }
-        self.lights.extend(lights);
-        Ok(())
-    }
-
     /// The scene camera: `[camera]` with `name` or `index` picks a camera of an included file
     /// (glTF); other keys describe one; without `[camera]`, the first included camera if any.
     fn camera(&self, t: Option<Tbl<'_>>) -> Result<CameraDesc, ImportError> {
@@ -567,31 +466,5 @@ impl<'a> Builder<'a> {
         }
         let i: usize = t.opt_int("index", 0, max)?.unwrap_or(0);
         Ok(self.cameras[i].camera.clone())
-    }
-
-    fn override_(&mut self, t: &Tbl<'_>) -> Result<(), ImportError> {
-        t.check_keys(&["match", "material"])?;
-        let pattern = t.opt_str("match")?.ok_or_else(|| t.missing("match"))?;
-        let material = self.material_ref(t, "material")?.ok_or_else(|| t.missing("material"))?;
-        let mut hits = 0usize;
-        for (m, orig) in self.meshes.iter_mut().zip(&self.orig_material) {
-            let current = &self.materials[m.material].name;
-            if glob_match(pattern, &m.name) || glob_match(pattern, orig) || glob_match(pattern, current) {
-                m.material = material;
-                hits += 1;
-            }
-        }
-        if hits == 0 {
-            let mut names: Vec<&str> = self.meshes.iter().map(|m| m.name.as_str()).take(8).collect();
-            if self.meshes.len() > 8 {
-                names.push("...");
-            }
-            return Err(self.doc.error(
-                ImportErrorKind::UnresolvedReference,
-                &t.key_span("match"),
-                format!("override `{pattern}` matches no mesh or material name (meshes: {})", names.join(", ")),
-            ));
-        }
-        Ok(())
     }
 }

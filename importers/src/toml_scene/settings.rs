@@ -3,10 +3,10 @@
 use quasar_materials::spectrum::Spectrum;
 
 use super::LIGHT_TYPES;
-use super::reader::{Tbl, number};
 use super::spectrum::{self, SpectrumUse};
 use crate::error::ImportError;
 use crate::scene_desc::{CameraDesc, FovAxis, LightDesc, ParamValue, RenderParam, RenderSettings};
+use crate::toml_reader::{Tbl, number};
 
 /// Reads the `[render]` table (defaults when absent). The image, budget and seed keys are read
 /// here; every other key is a method parameter, kept with its place for the renderer's method
@@ -57,7 +57,7 @@ pub(super) fn render(t: Option<Tbl<'_>>, unit: f32) -> Result<RenderSettings, Im
         r.seed = s;
     }
     if let Some(v) = t.get("method") {
-        r.method = super::reader::string(t.doc, v, &t.key_path("method"))?.to_owned();
+        r.method = crate::toml_reader::string(t.doc, v, &t.key_path("method"))?.to_owned();
         r.method_place = Some(t.doc.place(&v.span()));
     }
     if let Some((m, _)) = t.choice("masking", &quasar_materials::Masking::NAMES)? {
@@ -130,7 +130,7 @@ pub(super) fn light(t: &Tbl<'_>, unit: f32) -> Result<LightDesc, ImportError> {
                         ));
                     }
                     let what = t.key_path("file");
-                    let name = super::reader::string(doc, v, &what)?;
+                    let name = crate::toml_reader::string(doc, v, &what)?;
                     let path = doc.resolve(name);
                     let mut m =
                         crate::env_map::load_env_map(&path).map_err(|e| e.included_from(doc.place(&v.span())))?;

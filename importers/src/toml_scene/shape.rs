@@ -7,10 +7,10 @@ use std::f32::consts::PI;
 use glam::{Affine3A, Mat3, Vec3};
 use toml::de::DeValue;
 
-use super::reader::{Tbl, float, floats};
 use super::spectrum::{SpectrumUse, spectrum};
 use crate::error::{ImportError, ImportErrorKind};
 use crate::scene_desc::EmissionDesc;
+use crate::toml_reader::{Tbl, float, floats};
 use crate::transform::trs;
 
 /// Default icosphere subdivision level of `type = "sphere"` (20 * 4^4 = 5120 triangles).

@@ -6,9 +6,9 @@ use std::path::Path;
 use quasar_materials::spectrum::{Spectrum, SpectrumError, StandardIlluminant};
 use toml::de::DeValue;
 
-use super::reader::{Doc, Span, Tbl, Val, float, float_list, string};
 use crate::error::{ErrorPlace, ImportError, ImportErrorKind, did_you_mean};
-use crate::obj::read_small_text;
+use crate::small_text::read_small_text;
+use crate::toml_reader::{Doc, Span, Tbl, Val, float, float_list, string};
 
 /// Largest number of entries in a spectrum table (inline or CSV).
 pub const MAX_SPECTRUM_ENTRIES: usize = 100_000;
@@ -48,7 +48,7 @@ pub(crate) fn spectrum(doc: &Doc<'_>, v: &Val<'_>, what: &str, usage: SpectrumUs
         )),
         other => Err(doc.invalid(
             &v.span(),
-            format!("`{what}` must be a number or a spectrum table, got {}", super::reader::type_name(other)),
+            format!("`{what}` must be a number or a spectrum table, got {}", crate::toml_reader::type_name(other)),
         )),
     }
 }
@@ -125,7 +125,7 @@ fn table_spectrum(t: &Tbl<'_>, usage: SpectrumUse) -> Result<Spectrum, ImportErr
             Ok(Spectrum::illuminant(ill))
         }
         "rgb" => {
-            let rgb = super::reader::floats::<3>(doc, v, &what)?;
+            let rgb = crate::toml_reader::floats::<3>(doc, v, &what)?;
             let r = match usage {
                 SpectrumUse::Reflectance => Spectrum::rgb_reflectance(rgb),
                 SpectrumUse::Emission => Spectrum::rgb_illuminant(rgb),

@@ -5,19 +5,20 @@
 use glam::Vec3;
 
 use crate::spectrum::SampledSpectrum;
-use crate::tabulated::TabulatedBsdf;
 
 pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
 pub mod fresnel;
 pub mod microfacet;
+pub mod tabulated;
 
 pub use conductor::ConductorBsdf;
 pub use dielectric::DielectricBsdf;
 pub use diffuse::DiffuseBsdf;
 pub use fresnel::SampledFresnel;
 pub use microfacet::TrowbridgeReitz;
+pub use tabulated::TabulatedBsdf;
 
 /// Which quantity a path carries: radiance (camera paths) or importance (light paths / photons).
 /// Non-symmetric scattering (refraction's 1/eta^2 radiance scaling) depends on it.

@@ -25,6 +25,19 @@ pub fn mat3_mul(m: &[[f32; 3]; 3], v: [f32; 3]) -> [f32; 3] {
     ]
 }
 
+/// The sRGB transfer function decoded for an 8-bit value (IEC 61966-2-1: v/12.92 up to
+/// 0.04045, ((v + 0.055)/1.055)^2.4 above), from a 256-entry table.
+#[inline]
+pub fn srgb8_to_linear(v: u8) -> f32 {
+    static LUT: std::sync::OnceLock<[f32; 256]> = std::sync::OnceLock::new();
+    LUT.get_or_init(|| {
+        std::array::from_fn(|i| {
+            let c = i as f32 / 255.0;
+            if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
+        })
+    })[usize::from(v)]
+}
+
 /// CIE XYZ -> linear sRGB.
 #[inline]
 pub fn xyz_to_linear_srgb(xyz: [f32; 3]) -> [f32; 3] {
@@ -54,5 +67,13 @@ mod tests {
         for k in 0..3 {
             assert!((r[k] - v[k]).abs() < 1e-5);
         }
+    }
+
+    #[test]
+    fn srgb_decoding() {
+        assert_eq!(srgb8_to_linear(0), 0.0);
+        assert_eq!(srgb8_to_linear(255), 1.0);
+        assert!((srgb8_to_linear(10) - 10.0 / 255.0 / 12.92).abs() < 1e-7);
+        assert!((srgb8_to_linear(128) - 0.215_860_5).abs() < 1e-5);
     }
 }

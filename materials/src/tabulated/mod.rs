@@ -3,7 +3,7 @@
 //!
 //! A [`TabulatedSpec`] is the plain data a loader reads (materials/README.md documents the TOML
 //! form); [`TabulatedTable::new`] validates it (finite, non-negative, monotone grids, albedo <= 1)
-//! and builds the sampling distributions; [`TabulatedBsdf`] evaluates and samples it at a path's
+//! and builds the sampling distributions; [`TabulatedBsdf`](crate::bsdf::TabulatedBsdf) evaluates and samples it at a path's
 //! wavelengths. Interpolation: linear in wavelength (clamped to the table's range), incidence
 //! polar angle (clamped), incidence azimuth (periodic, anisotropic tables) and bilinear in the
 //! scatter (theta, phi) cell; zero beyond the last scatter theta.
@@ -11,12 +11,9 @@
 use std::f32::consts::{FRAC_PI_2, PI, TAU};
 use std::fmt;
 
-mod bsdf;
-mod distribution;
-pub mod generate;
+pub(crate) mod distribution;
 pub(crate) mod geometry;
 
-pub use bsdf::TabulatedBsdf;
 use distribution::LobeDistribution;
 
 /// Largest number of values one scatter table may hold (2^24 f32 = 64 MiB). Loaders check the

@@ -2,11 +2,11 @@ use std::f32::consts::{FRAC_1_PI, PI};
 
 use glam::{Vec2, Vec3};
 
-use super::generate::{GridSpec, Tabulation, material_fn, power_spaced, uniform_phi};
 use super::*;
 use crate::bsdf::TransportMode;
 use crate::material::{ConductorFresnel, Material};
 use crate::spectrum::{SampledWavelengths, Spectrum};
+use crate::tabulation::{GridSpec, Tabulation, material_fn, power_spaced, uniform_phi};
 use crate::{Bsdf, TabulatedBsdf};
 
 fn deg(v: &[f32]) -> Vec<f32> {

@@ -82,7 +82,7 @@ mod tests {
     use super::*;
     use crate::film::PathClass;
     use quasar_importers::ImportOptions;
-    use quasar_importers::toml_scene::parse_toml_scene;
+    use quasar_importers::parse_toml_scene;
     use quasar_materials::Bsdf;
     use quasar_materials::spectrum::SampledSpectrum;
 

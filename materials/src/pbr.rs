@@ -1,5 +1,6 @@
 //! The glTF metallic-roughness model mapped onto quasar's analytic materials (one place, used by
-//! the glTF importer for material factors and by the renderer for textured materials at hits).
+//! the glTF importer for material factors and by the renderer for textured materials at hits,
+//! with the parameters its textures give there).
 //!
 //! quasar has one analytic lobe per material, so the layered glTF model is reduced to its dominant
 //! lobe (documented in `docs/gltf.md`):
@@ -13,8 +14,8 @@
 //! In every case the GGX alpha is `roughness^2` (the glTF convention) and surfaces reflect on
 //! both sides.
 
-use quasar_materials::spectrum::Spectrum;
-use quasar_materials::{ConductorFresnel, Ior, Material};
+use crate::material::{ConductorFresnel, Ior, Material};
+use crate::spectrum::Spectrum;
 
 /// Threshold of `metallic` (and `transmission`) above which the metal (glass) lobe is chosen.
 pub const PBR_LOBE_THRESHOLD: f32 = 0.5;

@@ -5,11 +5,11 @@ use std::f32::consts::TAU;
 
 use glam::Vec3;
 
-use super::geometry::{Incidence, grid_direction, half_versine, lobe_axis, to_face};
-use super::{BackFace, Face, ScatterGrid, ScatterTable, TabulatedSpec};
 use crate::bsdf::TransportMode;
 use crate::material::Material;
 use crate::spectrum::SampledWavelengths;
+use crate::tabulated::geometry::{Incidence, grid_direction, half_versine, lobe_axis, to_face};
+use crate::tabulated::{BackFace, Face, ScatterGrid, ScatterTable, TabulatedSpec};
 
 /// The grid of one generated scatter table.
 #[derive(Clone, Debug, PartialEq)]

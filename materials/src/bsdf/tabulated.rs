@@ -8,11 +8,11 @@
 
 use glam::{Vec2, Vec3};
 
-use super::distribution::{Bilinear, cell_bounds, locate, solid_angle};
-use super::geometry::{Incidence, grid_coords, grid_direction, lobe_axis, to_face};
-use super::{ScatterGrid, TabulatedTable, bracket};
-use crate::bsdf::{BsdfSample, Lobe, TransportMode};
+use super::{BsdfSample, Lobe, TransportMode};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::tabulated::distribution::{Bilinear, cell_bounds, locate, solid_angle};
+use crate::tabulated::geometry::{Incidence, grid_coords, grid_direction, lobe_axis, to_face};
+use crate::tabulated::{ScatterGrid, TabulatedTable, bracket};
 
 /// A tabulated BSDF at four wavelengths: a borrowed table plus the wavelength interpolation.
 #[derive(Clone, Copy, Debug)]

@@ -1,0 +1,208 @@
+//! Texture evaluation at surface hits: 8-bit RGBA images with glTF wrap modes and bilinear (or
+//! nearest) filtering, and the textured glTF metallic-roughness material whose factors the texels
+//! multiply (glTF 2.0 section 3.9; KHR_texture_transform for the coordinate maps). Compiled from
+//! the importers' plain [`TextureDesc`] / [`MaterialTextures`] by
+//! [`Scene::compile`](crate::core::scene::Scene::compile).
+
+use glam::{Vec2, Vec3};
+use quasar_importers::{MaterialTextures, TextureDesc, TextureRef, TextureWrap};
+use quasar_materials::PbrParams;
+use quasar_materials::spectrum::color::srgb8_to_linear;
+
+/// Maps integer texel coordinate `i` into `0..n` by `wrap`.
+#[inline]
+fn wrapped(wrap: TextureWrap, i: i64, n: u32) -> usize {
+    let n = i64::from(n.max(1));
+    let j = match wrap {
+        TextureWrap::Repeat => i.rem_euclid(n),
+        TextureWrap::ClampToEdge => i.clamp(0, n - 1),
+        TextureWrap::MirroredRepeat => {
+            let k = i.rem_euclid(2 * n);
+            if k < n { k } else { 2 * n - 1 - k }
+        }
+    };
+    j as usize
+}
+
+/// An image texture: `width * height` RGBA texels, row 0 at the top, as stored in the file
+/// (colour textures sRGB-encoded, decoded per lookup).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ImageTexture {
+    width: u32,
+    height: u32,
+    texels: Vec<[u8; 4]>,
+    wrap_u: TextureWrap,
+    wrap_v: TextureWrap,
+    nearest: bool,
+}
+
+impl ImageTexture {
+    /// The texture of an imported image.
+    pub fn new(desc: &TextureDesc) -> Self {
+        Self {
+            width: desc.width,
+            height: desc.height,
+            texels: desc.texels.clone(),
+            wrap_u: desc.wrap_u,
+            wrap_v: desc.wrap_v,
+            nearest: desc.nearest,
+        }
+    }
+
+    /// The texel at integer coordinates (wrapped); with `srgb` the colour channels decoded.
+    #[inline]
+    fn texel(&self, x: i64, y: i64, srgb: bool) -> [f32; 4] {
+        let (x, y) = (wrapped(self.wrap_u, x, self.width), wrapped(self.wrap_v, y, self.height));
+        let t = self.texels.get(y * self.width as usize + x).copied().unwrap_or([0; 4]);
+        let c = |v: u8| if srgb { srgb8_to_linear(v) } else { f32::from(v) / 255.0 };
+        [c(t[0]), c(t[1]), c(t[2]), f32::from(t[3]) / 255.0]
+    }
+
+    /// The filtered value at texture coordinates `uv` (glTF convention: (0, 0) = top-left),
+    /// RGBA in [0, 1]; with `srgb` the colour channels are decoded to linear before filtering.
+    /// Non-finite coordinates give 0.
+    pub fn sample(&self, uv: Vec2, srgb: bool) -> [f32; 4] {
+        if self.width == 0 || self.height == 0 || !uv.is_finite() {
+            return [0.0; 4];
+        }
+        // clamp far-away coordinates so the integer conversion stays exact (wrap is periodic)
+        let x = (uv.x.clamp(-1e6, 1e6) as f64) * f64::from(self.width) - 0.5;
+        let y = (uv.y.clamp(-1e6, 1e6) as f64) * f64::from(self.height) - 0.5;
+        if self.nearest {
+            return self.texel((x + 0.5).floor() as i64, (y + 0.5).floor() as i64, srgb);
+        }
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = ((x - x0) as f32, (y - y0) as f32);
+        let (x0, y0) = (x0 as i64, y0 as i64);
+        let a = self.texel(x0, y0, srgb);
+        let b = self.texel(x0 + 1, y0, srgb);
+        let c = self.texel(x0, y0 + 1, srgb);
+        let d = self.texel(x0 + 1, y0 + 1, srgb);
+        std::array::from_fn(|k| (a[k] * (1.0 - fx) + b[k] * fx) * (1.0 - fy) + (c[k] * (1.0 - fx) + d[k] * fx) * fy)
+    }
+}
+
+/// The texture's coordinates of mesh coordinates `uv`: the reference's affine map
+/// `uv' = T * R * S * uv` (KHR_texture_transform, row-major 2x3).
+#[inline]
+fn mapped(r: &TextureRef, uv: Vec2) -> Vec2 {
+    let m = &r.transform;
+    Vec2::new(m[0][0] * uv.x + m[0][1] * uv.y + m[0][2], m[1][0] * uv.x + m[1][1] * uv.y + m[1][2])
+}
+
+/// A glTF metallic-roughness material with textures: its factors, multiplied per hit by the
+/// base-colour texel (sRGB) and the metallic (blue) / roughness (green) texel (linear), and its
+/// tangent-space normal map.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TexturedMaterial {
+    factors: PbrParams,
+    base_color: Option<TextureRef>,
+    metallic_roughness: Option<TextureRef>,
+    normal: Option<TextureRef>,
+    normal_scale: f32,
+}
+
+impl TexturedMaterial {
+    /// The textured material of an imported material (None when it has no texture).
+    pub fn new(t: &MaterialTextures) -> Option<Self> {
+        Some(Self {
+            factors: t.pbr?,
+            base_color: t.base_color,
+            metallic_roughness: t.metallic_roughness,
+            normal: t.normal,
+            normal_scale: t.normal_scale,
+        })
+    }
+
+    /// The glTF parameters at mesh texture coordinates `uv`: factors times texels (a reference
+    /// to a missing texture leaves its factor alone).
+    pub fn params_at(&self, textures: &[ImageTexture], uv: Vec2) -> PbrParams {
+        let mut p = self.factors;
+        if let Some(r) = &self.base_color
+            && let Some(t) = textures.get(r.texture)
+        {
+            let c = t.sample(mapped(r, uv), true);
+            for (b, c) in p.base_color.iter_mut().zip(c) {
+                *b *= c;
+            }
+        }
+        if let Some(r) = &self.metallic_roughness
+            && let Some(t) = textures.get(r.texture)
+        {
+            let c = t.sample(mapped(r, uv), false);
+            p.roughness *= c[1];
+            p.metallic *= c[2];
+        }
+        p
+    }
+
+    /// The tangent-space normal at mesh texture coordinates `uv`, (2 c - 1) with X and Y scaled
+    /// by `normalTexture.scale` (not normalised; None without a normal map).
+    pub fn normal_at(&self, textures: &[ImageTexture], uv: Vec2) -> Option<Vec3> {
+        let r = self.normal.as_ref()?;
+        let c = textures.get(r.texture)?.sample(mapped(r, uv), false);
+        let s = self.normal_scale;
+        Some(Vec3::new((2.0 * c[0] - 1.0) * s, (2.0 * c[1] - 1.0) * s, 2.0 * c[2] - 1.0))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use quasar_importers::SourceLocation;
+
+    use super::*;
+
+    fn tex(wrap: TextureWrap, nearest: bool) -> ImageTexture {
+        ImageTexture::new(&TextureDesc {
+            name: "t".into(),
+            width: 2,
+            height: 1,
+            texels: vec![[0, 0, 0, 255], [255, 255, 255, 255]],
+            wrap_u: wrap,
+            wrap_v: wrap,
+            nearest,
+            source: SourceLocation::default(),
+        })
+    }
+
+    #[test]
+    fn wrap_modes_and_filtering() {
+        let t = tex(TextureWrap::Repeat, true);
+        assert_eq!(t.sample(Vec2::new(0.25, 0.5), false)[0], 0.0);
+        assert_eq!(t.sample(Vec2::new(0.75, 0.5), false)[0], 1.0);
+        assert_eq!(t.sample(Vec2::new(1.25, 0.5), false)[0], 0.0);
+        assert_eq!(tex(TextureWrap::ClampToEdge, true).sample(Vec2::new(1.25, 0.5), false)[0], 1.0);
+        assert_eq!(tex(TextureWrap::MirroredRepeat, true).sample(Vec2::new(1.25, 0.5), false)[0], 1.0);
+        let b = tex(TextureWrap::ClampToEdge, false);
+        assert!((b.sample(Vec2::new(0.5, 0.5), false)[0] - 0.5).abs() < 1e-6);
+        // sRGB decoding before filtering: the mean of 0 and 1 either way
+        assert!((b.sample(Vec2::new(0.5, 0.5), true)[0] - 0.5).abs() < 1e-6);
+        assert_eq!(b.sample(Vec2::new(f32::NAN, 0.5), false), [0.0; 4]);
+        assert_eq!(b.sample(Vec2::new(1e30, -1e30), false).map(f32::is_finite), [true; 4]);
+    }
+
+    #[test]
+    fn factors_times_texels_through_the_transform() {
+        let textures = [tex(TextureWrap::ClampToEdge, true)];
+        let factors = PbrParams { base_color: [0.5, 0.25, 1.0], metallic: 0.8, roughness: 0.6, ..Default::default() };
+        // the transform maps every uv to u = 0.75 (the white texel)
+        let white = TextureRef { texture: 0, transform: [[0.0, 0.0, 0.75], [0.0, 0.0, 0.5]] };
+        let black = TextureRef { texture: 0, transform: [[0.0, 0.0, 0.25], [0.0, 0.0, 0.5]] };
+        let m = |bc, mr| MaterialTextures {
+            pbr: Some(factors),
+            base_color: bc,
+            metallic_roughness: mr,
+            normal: Some(white),
+            normal_scale: 0.5,
+        };
+        let t = TexturedMaterial::new(&m(Some(white), Some(black))).unwrap();
+        let p = t.params_at(&textures, Vec2::new(0.1, 0.9));
+        assert_eq!((p.base_color, p.metallic, p.roughness), ([0.5, 0.25, 1.0], 0.0, 0.0));
+        assert_eq!(t.normal_at(&textures, Vec2::ZERO), Some(Vec3::new(0.5, 0.5, 1.0)));
+        // a reference to a texture that is not there leaves the factor
+        let missing = TextureRef::new(7);
+        let p = TexturedMaterial::new(&m(Some(missing), None)).unwrap().params_at(&textures, Vec2::ZERO);
+        assert_eq!(p, factors);
+        assert!(TexturedMaterial::new(&MaterialTextures::default()).is_none());
+    }
+}
