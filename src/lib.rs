@@ -1,4 +1,4 @@
-//! quasar: a physically based, spectral CPU renderer (see DESIGN.md).
+//! quasar: a physically based, spectral CPU renderer (docs/architecture.md).
 //!
 //! Data flow: `quasar_importers` turns files into a plain [`quasar_importers::SceneDesc`];
 //! [`scene::Scene::compile`] builds the BVH, lights and materials; an integrator

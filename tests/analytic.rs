@@ -1,4 +1,4 @@
-//! Analytic checks of the reference path tracer (DESIGN.md section 8).
+//! Analytic checks of the reference path tracer (docs/validation.md).
 
 mod common;
 

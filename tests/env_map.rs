@@ -1,4 +1,4 @@
-//! Lat-long environment maps (DESIGN.md section 2): a diffuse floor under a structured sky has the
+//! Lat-long environment maps (docs/architecture.md §4): a diffuse floor under a structured sky has the
 //! radiance a E / pi of the irradiance E the map's upper hemisphere gives (quadrature over its
 //! texels), with pt (importance-sampled light samples + MIS) and with the photons of vismap; a
 //! uniform map renders like the constant environment of the same radiance.

@@ -1,4 +1,4 @@
-//! Numerical extremes (DESIGN.md section 8): every method stays finite and panic-free at extreme
+//! Numerical extremes (docs/architecture.md §9): every method stays finite and panic-free at extreme
 //! roughness, IOR, incidence, scene scale, radiance and spectra, on degenerate geometry, with
 //! zero-area lights, lights inside objects and the camera inside glass; where a physical answer
 //! exists, it is checked.

@@ -1,4 +1,4 @@
-//! The paper's methods (DESIGN.md 3.3-3.5): `adaptive`, `quasi` and `adaptive+quasi` converge to
+//! The paper's methods (docs/architecture.md §7.5-7.6): `adaptive`, `quasi` and `adaptive+quasi` converge to
 //! the reference path tracer for several cone angles; the adaptive depth moves gathering off
 //! narrow lobes; `auto` picks what the scene needs.
 

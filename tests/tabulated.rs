@@ -1,4 +1,4 @@
-//! Tabulated BSDFs in renders (DESIGN.md section 4): a table sampled from an analytic GGX lobe
+//! Tabulated BSDFs in renders (docs/architecture.md §5): a table sampled from an analytic GGX lobe
 //! renders the same image as the analytic material (pt and the bidirectional methods, which use
 //! the table in importance mode), and every library material loads and renders in the shipped
 //! preview scene.

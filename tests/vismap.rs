@@ -1,4 +1,4 @@
-//! `vismap` (DESIGN.md section 3.2) converges to the reference path tracer on the shipped scenes
+//! `vismap` (docs/architecture.md §7.4) converges to the reference path tracer on the shipped scenes
 //! and passes the analytic furnace case.
 
 mod common;

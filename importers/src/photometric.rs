@@ -1,7 +1,7 @@
 //! Photometric -> radiometric conversion for lights given in photometric units (glTF candela,
 //! lux, nits).
 //!
-//! The sensor's luminance is Y = integral L ybar / integral ybar (DESIGN.md section 2), and the
+//! The sensor's luminance is Y = integral L ybar / integral ybar (docs/architecture.md §3), and the
 //! photometric luminance is L_v = 683 lm/W * integral L ybar = [`LUMINANCE_PER_Y`] * Y (cd/m^2).
 //! Light colours are spectra normalised to Y = 1 (`Spectrum::rgb_illuminant`), so a photometric
 //! quantity Q (cd, lx or cd/m^2) becomes the radiometric scale `Q / LUMINANCE_PER_Y` (W/(sr nm),

@@ -1,5 +1,5 @@
 //! `SceneDesc`: the renderer-independent, plain-data description of a scene that every importer
-//! produces and the renderer compiles (DESIGN.md section 1). Nothing here refers to render-time
+//! produces and the renderer compiles (docs/architecture.md §2). Nothing here refers to render-time
 //! structures. Lengths are in metres (importers apply `units`), directions need not be normalised.
 
 use std::path::PathBuf;

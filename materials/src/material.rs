@@ -43,7 +43,7 @@ pub enum Ior {
     },
 }
 
-/// A surface material (DESIGN.md section 4): the closed set of analytic models.
+/// A surface material (docs/architecture.md §5): the closed set of analytic models.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Material {
     /// Lambertian reflector with albedo `reflectance`; black from behind unless `two_sided`.

@@ -1,4 +1,4 @@
-//! The non-uniformity coefficient kappa(wo) of a material (DESIGN.md section 3.3; Zhdanov et al.
+//! The non-uniformity coefficient kappa(wo) of a material (docs/architecture.md §5; Zhdanov et al.
 //! 2015): how much more a BSDF scatters into its strongest direction than on average, for a
 //! given incidence. Gathering photons where kappa is small (diffuse surfaces) keeps the noise of
 //! the density estimate low; kappa is large for narrow lobes and infinite for specular surfaces.

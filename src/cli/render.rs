@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::{Arg, ArgAction, ArgMatches, Args, Command, FromArgMatches};
-use quasar::integrator::method::{METHODS, all_params, method_names};
+use quasar::integrator::method::{METHODS, all_params, method_names, users_of};
 use quasar::integrator::params::{MethodParams, ParamKind};
 use quasar::render::job::{JobOverrides, render_desc, write_outputs_with_exposure};
 use quasar_importers::ImportOptions;
@@ -118,7 +118,7 @@ impl FromArgMatches for MethodArgs {
 impl Args for MethodArgs {
     fn augment_args(cmd: Command) -> Command {
         all_params().into_iter().fold(cmd, |cmd, spec| {
-            let help = format!("{} (default: {})", spec.doc, spec.default);
+            let help = format!("{}: {} (default: {})", users_of(spec.key).join(", "), spec.doc, spec.default);
             let arg = Arg::new(spec.key).long(spec.flag).help(help);
             cmd.arg(match spec.kind {
                 ParamKind::Bool => arg.action(ArgAction::SetTrue),

@@ -1,4 +1,4 @@
-//! Lights (DESIGN.md section 2): the closed set of emitters, their sampling, and power-proportional
+//! Lights (docs/architecture.md §4): the closed set of emitters, their sampling, and power-proportional
 //! light selection.
 
 use std::f32::consts::PI;

@@ -1,4 +1,4 @@
-//! The compiled, render-time scene: BVH, materials, lights (DESIGN.md section 1: import ->
+//! The compiled, render-time scene: BVH, materials, lights (docs/architecture.md §2: import ->
 //! SceneDesc -> **compile** -> integrate). Nothing here knows about file formats.
 
 use std::borrow::Cow;
@@ -86,7 +86,7 @@ impl SurfaceInteraction {
 /// Largest |coordinate| (metres) of a vertex that is kept: triangles further out are dropped like
 /// non-finite ones. Beyond it, squared extents in the BVH builder's surface-area costs overflow
 /// f32 and obvhs builds an invalid tree (an index out of bounds, found by fuzzing); 1e15 m is ten
-/// orders of magnitude past the largest scene scale DESIGN.md asks for (1e5 m).
+/// orders of magnitude past the largest scene scale quasar supports (1e5 m, docs/architecture.md §9).
 pub const MAX_COORDINATE: f32 = 1e15;
 
 /// A key equal for the same triangle with any rotation of its vertices (same orientation).
@@ -137,7 +137,7 @@ pub struct Scene {
     pub materials: Vec<Material>,
     /// Material names (same order).
     pub material_names: Vec<String>,
-    /// Non-uniformity coefficient kappa of each material over incidence (DESIGN.md 3.3).
+    /// Non-uniformity coefficient kappa of each material over incidence (docs/architecture.md §5).
     pub non_uniformity: Vec<NonUniformity>,
     /// Emission records of emissive meshes.
     pub emissions: Vec<Emission>,

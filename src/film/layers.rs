@@ -1,4 +1,4 @@
-//! The split of a path's radiance into the film's layers (DESIGN.md section 5): emission (lights
+//! The split of a path's radiance into the film's layers (docs/architecture.md §6): emission (lights
 //! seen directly or through specular chains, L^V), direct (one non-specular event, L^D) and
 //! indirect (L^I), with the caustic part of indirect (L S+ D S* E paths) also kept on its own.
 

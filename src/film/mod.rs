@@ -1,5 +1,5 @@
 //! The film: per-pixel accumulation of the radiance layers in CIE XYZ, and their conversion to
-//! the output AOV channels (DESIGN.md section 5), with the statistics of their standard errors.
+//! the output AOV channels (docs/architecture.md §6), with the statistics of their standard errors.
 
 mod blocks;
 mod layers;
@@ -36,8 +36,15 @@ pub const N_QUANTITIES: usize = 1 + N_LAYERS;
 
 impl Quantity {
     /// Every quantity, in index order.
-    pub const ALL: [Quantity; N_QUANTITIES] =
-        [Quantity::Beauty, Quantity::Layer(0), Quantity::Layer(1), Quantity::Layer(2), Quantity::Layer(3)];
+    pub const ALL: [Quantity; N_QUANTITIES] = {
+        let mut all = [Quantity::Beauty; N_QUANTITIES];
+        let mut i = 0;
+        while i < N_LAYERS {
+            all[1 + i] = Quantity::Layer(i);
+            i += 1;
+        }
+        all
+    };
 
     /// Position in per-sample arrays: 0 for the beauty, 1 + i for layer i.
     #[inline]

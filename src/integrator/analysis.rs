@@ -1,4 +1,4 @@
-//! Scene analysis for `--method auto` and `quasar info` (DESIGN.md section 3.5): what the scene
+//! Scene analysis for `--method auto` and `quasar info` (docs/architecture.md §7.6): what the scene
 //! requires (narrow lobes, specular chains, dispersion, light types) and which method models
 //! exactly that.
 

@@ -41,7 +41,7 @@ pub fn sample_direct(
 }
 
 /// [`sample_direct`] restricted to the directions where `excluded(wi_local)` is false: light
-/// samples in the excluded set contribute nothing (DESIGN.md 3.4: the quasi-specular cone C is
+/// samples in the excluded set contribute nothing (docs/architecture.md §7.5: the quasi-specular cone C is
 /// estimated by the continued path instead), except samples of delta lights (point, spot,
 /// directional), which a continued path can never hit and which are therefore always counted.
 #[inline]
@@ -67,7 +67,7 @@ pub fn sample_direct_outside(
         return SampledSpectrum::zero();
     }
     let wi_local = si.frame().to_local(ls.wi);
-    // a delta light is never excluded: no continued path can hit it (DESIGN.md 3.4)
+    // a delta light is never excluded: no continued path can hit it (docs/architecture.md §7.5)
     if !ls.delta && excluded(wi_local) {
         return SampledSpectrum::zero();
     }

@@ -1,4 +1,4 @@
-//! `pt`: the reference unidirectional path tracer (DESIGN.md section 3.1): next-event estimation
+//! `pt`: the reference unidirectional path tracer (docs/architecture.md §7.2): next-event estimation
 //! with MIS (power heuristic) against BSDF sampling, Russian roulette, unbounded depth by default.
 //! Contributions are split into layers by the path's scattering history ([`PathClass`]).
 
@@ -35,8 +35,8 @@ pub static MAX_DEPTH: ParamSpec = ParamSpec {
     key: "max_depth",
     flag: "max-depth",
     kind: ParamKind::Int { min: 0, max: 1_000_000 },
-    default: "unbounded (Russian roulette ends paths)",
-    doc: "pt: maximum number of scattering events per path",
+    default: "pt: unbounded, Russian roulette ends paths; direct: 16",
+    doc: "maximum number of scattering events per path (direct: of the specular chain before the first non-specular vertex)",
 };
 
 /// The method table's row of `pt`.
@@ -124,7 +124,7 @@ pub fn radiance(
 /// non-specular vertex, Russian roulette from `settings.rr_depth` scattering events), adding
 /// what it finds to `out`. The bidirectional methods call it where their own estimator ends
 /// a path for a reason other than the estimate itself (a cap on gather points or specular
-/// events), so that no light is lost there (DESIGN.md 3.4).
+/// events), so that no light is lost there (docs/architecture.md §7.5).
 pub fn trace(
     scene: &Scene,
     mut ray: Ray,

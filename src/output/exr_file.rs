@@ -1,4 +1,4 @@
-//! Single-part, multi-layer float32 OpenEXR files with `layer.channel` names (DESIGN.md section 5),
+//! Single-part, multi-layer float32 OpenEXR files with `layer.channel` names (docs/architecture.md §6),
 //! written atomically (temporary file in the same directory, then rename).
 
 use std::path::{Path, PathBuf};

@@ -1,5 +1,5 @@
 //! A render job: import a scene file, compile it, render, and write the EXR (and preview).
-//! This is the whole data flow of DESIGN.md section 1 in one place:
+//! This is the whole data flow of docs/architecture.md §2 in one place:
 //! import -> SceneDesc -> compile -> integrate -> film -> EXR.
 
 use std::path::{Path, PathBuf};

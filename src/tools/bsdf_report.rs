@@ -1,5 +1,5 @@
 //! `quasar bsdf`: a report on a tabulated BSDF — directional albedo per incidence and wavelength,
-//! the non-uniformity coefficient kappa (DESIGN.md section 3.3) and the energy verdict — and a
+//! the non-uniformity coefficient kappa (docs/architecture.md §5) and the energy verdict — and a
 //! polar plot of its lobes in the plane of incidence.
 
 use std::f32::consts::PI;

@@ -1,4 +1,4 @@
-//! Error-vs-time curves (`quasar bench convergence`, DESIGN.md section 9): each method renders
+//! Error-vs-time curves (`quasar bench convergence`; figures in BENCHMARKS.md): each method renders
 //! the same scene for a series of time budgets and its luminance is compared with a converged
 //! reference (relMSE, as `quasar compare`). Output: CSV, a markdown table with the time each
 //! method needs to reach a target error, and a log-log PNG plot.

@@ -1,4 +1,4 @@
-//! The native TOML scene format (DESIGN.md section 7; full reference in `docs/scene-format.md`).
+//! The native TOML scene format (reference: `docs/scene-format.md`).
 //!
 //! The document is parsed into a span-preserving tree (`toml::de::DeTable`) and read with typed,
 //! span-aware accessors, so every error — syntax, unknown key, wrong type, out-of-range value,

@@ -1,4 +1,4 @@
-//! BSDF models (DESIGN.md section 4). All directions are in the local shading frame (z = normal),
+//! BSDF models (docs/architecture.md §5). All directions are in the local shading frame (z = normal),
 //! both `wo` and `wi` point away from the surface, and values are in 1/sr (pbrt-v4 conventions).
 //! The integrator only calls [`Bsdf::f`], [`Bsdf::sample_f`] and [`Bsdf::pdf`].
 
@@ -179,7 +179,7 @@ impl Bsdf<'_> {
 
     /// The ideal (specular) scattering directions of `wo` in the local frame: the mirror
     /// direction and, for dielectrics, the Snell refraction direction (None under total internal
-    /// reflection). These are the axes of the quasi-specular cones (DESIGN.md section 3.4).
+    /// reflection). These are the axes of the quasi-specular cones (docs/architecture.md §7.5).
     /// Lambertian and black surfaces have no lobe around them and return (None, None).
     pub fn ideal_directions(&self, wo: Vec3) -> (Option<Vec3>, Option<Vec3>) {
         let mirror = Vec3::new(-wo.x, -wo.y, wo.z);

@@ -1,4 +1,4 @@
-//! Spectral model (DESIGN.md section 2): hero-wavelength sampled spectra, spectral curves,
+//! Spectral model (docs/architecture.md §3): hero-wavelength sampled spectra, spectral curves,
 //! CIE colorimetry and the RGB uplift.
 
 pub mod cie;

@@ -1,4 +1,4 @@
-//! Tabulated spectral BSDFs (DESIGN.md section 4): measured or generated BRDF/BTDF tables in 1/sr
+//! Tabulated spectral BSDFs (docs/architecture.md §5): measured or generated BRDF/BTDF tables in 1/sr
 //! over wavelength, incidence and scatter angles, on an absolute or a specular-relative grid.
 //!
 //! A [`TabulatedSpec`] is the plain data a loader reads (materials/README.md documents the TOML

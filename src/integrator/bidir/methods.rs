@@ -22,7 +22,7 @@ pub static ITERATIONS: ParamSpec = ParamSpec {
     flag: "iterations",
     kind: ParamKind::Int { min: 1, max: u32::MAX as i128 },
     default: "the scene's spp",
-    doc: "bidirectional methods: number of iterations",
+    doc: "number of iterations",
 };
 /// `photons_per_iteration`.
 pub static PHOTONS: ParamSpec = ParamSpec {
@@ -30,7 +30,7 @@ pub static PHOTONS: ParamSpec = ParamSpec {
     flag: "photons-per-iteration",
     kind: ParamKind::Int { min: 1, max: 1 << 32 },
     default: "one per pixel",
-    doc: "bidirectional methods: photons traced per iteration",
+    doc: "photons traced per iteration",
 };
 /// `gather_depth`.
 pub static GATHER_DEPTH: ParamSpec = ParamSpec {
@@ -38,7 +38,7 @@ pub static GATHER_DEPTH: ParamSpec = ParamSpec {
     flag: "gather-depth",
     kind: ParamKind::Int { min: 0, max: 64 },
     default: "0",
-    doc: "vismap, quasi: non-specular camera-path vertex where photons are gathered (0 = first)",
+    doc: "non-specular camera-path vertex where photons are gathered (0 = first)",
 };
 /// `max_gather_depth`.
 pub static MAX_GATHER_DEPTH: ParamSpec = ParamSpec {
@@ -46,7 +46,7 @@ pub static MAX_GATHER_DEPTH: ParamSpec = ParamSpec {
     flag: "max-gather-depth",
     kind: ParamKind::Int { min: 0, max: MAX_ADAPTIVE_DEPTH as i128 },
     default: "4",
-    doc: "adaptive, adaptive+quasi: deepest gather depth considered",
+    doc: "deepest gather depth considered",
 };
 /// `adaptive_paper`.
 pub static ADAPTIVE_PAPER: ParamSpec = ParamSpec {
@@ -54,7 +54,7 @@ pub static ADAPTIVE_PAPER: ParamSpec = ParamSpec {
     flag: "adaptive-paper",
     kind: ParamKind::Bool,
     default: "false",
-    doc: "adaptive, adaptive+quasi: choose the depth from the iteration's own first ray (the paper's variant; biased) instead of earlier iterations' pilot paths",
+    doc: "choose the depth from the iteration's own first ray (the paper's variant; biased) instead of earlier iterations' pilot paths",
 };
 /// `cone_deg`.
 pub static CONE: ParamSpec = ParamSpec {
@@ -62,7 +62,7 @@ pub static CONE: ParamSpec = ParamSpec {
     flag: "cone",
     kind: ParamKind::Real { min: 0.0, max: 90.0 },
     default: "10",
-    doc: "quasi, adaptive+quasi: half-angle in degrees of the quasi-specular cone",
+    doc: "half-angle in degrees of the quasi-specular cone",
 };
 /// `radius`.
 pub static RADIUS: ParamSpec = ParamSpec {
@@ -70,7 +70,7 @@ pub static RADIUS: ParamSpec = ParamSpec {
     flag: "radius",
     kind: ParamKind::Length,
     default: "automatic (3 pixel footprints, shrunk where photons are dense)",
-    doc: "bidirectional methods: initial gather radius in scene units",
+    doc: "initial gather radius in scene units",
 };
 /// `alpha`.
 pub static ALPHA: ParamSpec = ParamSpec {
@@ -78,7 +78,7 @@ pub static ALPHA: ParamSpec = ParamSpec {
     flag: "alpha",
     kind: ParamKind::Real { min: 0.0, max: 1.0 },
     default: "2/3",
-    doc: "bidirectional methods: radius reduction alpha of progressive photon mapping",
+    doc: "radius reduction alpha of progressive photon mapping",
 };
 
 /// Default deepest gather depth of the adaptive methods.

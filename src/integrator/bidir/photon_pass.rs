@@ -1,4 +1,4 @@
-//! The forward (light) pass of `vismap` (DESIGN.md section 3.2 step 3): photons leave the lights
+//! The forward (light) pass of `vismap` (docs/architecture.md §7.4, step 2): photons leave the lights
 //! (power-proportional choice), scatter by BSDF sampling with Russian roulette, and at every
 //! non-specular hit after at least one bounce add f(wo, wi) * flux to the visibility points whose
 //! gather disk contains the hit.

@@ -1,4 +1,4 @@
-//! The quasi-specular cone C of DESIGN.md section 3.4: directions within theta_c of a glossy
+//! The quasi-specular cone C of docs/architecture.md §7.5: directions within theta_c of a glossy
 //! BSDF's ideal mirror or refraction direction. Paths continue through C without gathering;
 //! direct light and photons are gathered over the complement C' only.
 

@@ -6,7 +6,7 @@
 pub enum GatherDepth {
     /// Every pixel at this depth (`vismap --gather-depth D`; 0 = first non-specular vertex).
     Fixed(u32),
-    /// Per pixel and iteration, the depth of least non-uniformity kappa (DESIGN.md 3.3), up to
+    /// Per pixel and iteration, the depth of least non-uniformity kappa (docs/architecture.md §7.5), up to
     /// `max_depth`.
     Adaptive {
         /// Deepest depth considered.

@@ -1,5 +1,5 @@
-//! The backward (camera) pass (DESIGN.md section 3.2 step 2, with the quasi-specular cone of
-//! section 3.4): a camera path collects emission and MIS direct light up to its gather vertex and
+//! The backward (camera) pass (docs/architecture.md §7.4 step 1, with the quasi-specular cone of
+//! §7.5): a camera path collects emission and MIS direct light up to its gather vertex and
 //! leaves [`VisibilityPoint`]s there for the photons of the forward pass.
 
 use glam::Vec3;
@@ -122,7 +122,7 @@ fn direct_by_bsdf_sample(
 /// [`MAX_POINTS_PER_PATH`] gather vertices, or more than `max_specular` specular or
 /// passed-through ([`GatherRule::passes_through`]) events, is
 /// continued from there as the path tracer ([`pt::trace`]) so that the light from C there is
-/// not lost (DESIGN.md 3.4: no path is cut by a cap).
+/// not lost (docs/architecture.md §7.5: no path is cut by a cap).
 pub fn trace_camera_path<'s>(
     scene: &'s Scene,
     mut ray: Ray,
@@ -216,7 +216,7 @@ pub fn trace_camera_path<'s>(
     CameraPathResult { radiance: out, points, wl }
 }
 
-/// The gather depth a path of this pixel would choose for itself (DESIGN.md 3.3): traced by BSDF
+/// The gather depth a path of this pixel would choose for itself (docs/architecture.md §7.5): traced by BSDF
 /// sampling alone (no light sampling), it returns argmin over depths j of kappa(x_j), the
 /// non-uniformity of the first non-specular vertex at depth j (ties: the smaller depth), over at
 /// most `max_depth` + 1 depths; None when the path meets no non-specular vertex. With a cone, a
