@@ -1,9 +1,9 @@
 //! quasar: a physically based, spectral CPU renderer (docs/architecture.md).
 //!
 //! Data flow: `quasar_importers` turns files into a plain [`quasar_importers::SceneDesc`];
-//! [`scene::Scene::compile`] builds the BVH, lights and materials; an integrator
-//! ([`integrator`]) estimates radiance per pixel into the [`film::Film`]; [`output`] writes the
-//! multi-layer EXR.
+//! [`core::scene::Scene::compile`] builds the BVH, lights and materials; a method of the method
+//! table ([`integrator::method`]) renders passes into the [`film::Film`] under the one render
+//! loop ([`render::driver`]); [`output`] writes the multi-layer EXR.
 #![warn(missing_docs)]
 
 pub mod core;

@@ -5,7 +5,7 @@ use std::f32::consts::{FRAC_PI_2, FRAC_PI_4};
 
 use glam::{Vec2, Vec3};
 
-/// Shirley–Chiu concentric map of [0,1]^2 onto the unit disk (area preserving).
+/// Shirley–Chiu concentric map of [0, 1]^2 onto the unit disk (area preserving).
 pub fn concentric_disk(u: Vec2) -> Vec2 {
     let o = 2.0 * u - Vec2::ONE;
     if o.x == 0.0 && o.y == 0.0 {

@@ -1,4 +1,4 @@
-//! The integration methods (docs/architecture.md, "Methods"): each one turns camera rays (and,
+//! The integration methods (docs/architecture.md §7): each one turns camera rays (and,
 //! for the bidirectional methods, light paths) into layered radiance, in passes the render
 //! driver (`render::driver`) asks for through [`pass::RenderMethod`]. The methods are a closed set
 //! chosen by name in one table, [`method::METHODS`].

@@ -27,7 +27,7 @@ pub struct RenderState {
     pub film: Film,
     /// Units (samples per pixel or iterations) of this render share done.
     pub done: u32,
-    /// The method's own state ([`crate::integrator::RenderMethod::save_state`]).
+    /// The method's own state ([`crate::integrator::pass::RenderMethod::save_state`]).
     pub method_state: Vec<u8>,
 }
 

@@ -1,7 +1,7 @@
 //! Interruption: a stop request (the command line's Ctrl-C / SIGTERM handler calls [`request`])
 //! makes the running render stop; `pt` finishes the rows it is on, the bidirectional methods
 //! finish the current iteration, and the image of everything done so far is written, marked
-//! `partial` in its header (docs/architecture.md, "Interruption and checkpoints").
+//! `partial` in its header (docs/architecture.md §8).
 
 use std::sync::atomic::{AtomicBool, Ordering};
 

@@ -4,10 +4,10 @@
 //! Full reference: `docs/gltf.md`. In short:
 //! - **Geometry**: the default scene (else the first, else every root node), node hierarchy with
 //!   TRS or matrix transforms, triangle / strip / fan primitives with indices, normals and
-//!   `TEXCOORD_0`; every primitive becomes one world-space [`MeshDesc`] named
+//!   `TEXCOORD_0`; every primitive becomes one world-space [`MeshDesc`](crate::MeshDesc) named
 //!   `node:mesh:material` (instances are copied). Lengths are metres times
 //!   [`ImportOptions::units_scale`].
-//! - **Materials**: metallic-roughness mapped by [`crate::pbr`]; base colour and
+//! - **Materials**: metallic-roughness mapped by [`quasar_materials::pbr`]; base colour and
 //!   metallic-roughness textures are kept for the renderer ([`MaterialTextures`]); emissive
 //!   factor x KHR_materials_emissive_strength (x the emissive texture's mean) is an area light
 //!   whose luminance in cd/m^2 is that value (see [`crate::photometric`]).

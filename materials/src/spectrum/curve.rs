@@ -63,7 +63,7 @@ pub enum Spectrum {
         /// Normalisation factor computed at construction.
         norm: f32,
     },
-    /// A reflectance given as linear sRGB in [0,1], uplifted to the smooth spectrum in (0, 1) of
+    /// A reflectance given as linear sRGB in [0, 1], uplifted to the smooth spectrum in (0, 1) of
     /// Jakob & Hanika 2019 whose colour under D65 is that RGB (see
     /// [`rgb_uplift`](super::rgb_uplift)).
     RgbReflectance(RgbSpectrum),

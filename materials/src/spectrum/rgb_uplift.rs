@@ -250,7 +250,7 @@ fn fit_or_nearest_with(q: &Quadrature, rgb: [f32; 3], start: Option<[f64; 3]>) -
 pub const TABLE_RES: usize = 32;
 
 /// Coefficients on a grid over the RGB cube, for colours that change per shading point.
-/// Indexed by the largest component i: z = rgb[i] on a grid denser near 0 and 1, and
+/// Indexed by the largest component i: z = rgb\[i\] on a grid denser near 0 and 1, and
 /// x, y = rgb[(i + 1) % 3] / z, rgb[(i + 2) % 3] / z on uniform grids.
 pub struct RgbToSpectrumTable {
     z_nodes: [f32; TABLE_RES],

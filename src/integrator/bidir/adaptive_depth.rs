@@ -1,4 +1,4 @@
-//! The gather depth of every pixel and iteration (docs/architecture.md, "adaptive"): fixed
+//! The gather depth of every pixel and iteration (docs/architecture.md §7.5): fixed
 //! (`vismap`), or adaptive — the depth of least non-uniformity kappa along a pixel's path, chosen
 //! as the mode of the depths that independent pilot paths of *earlier* iterations picked, so
 //! that each iteration stays an unbiased estimate (the paper's own variant, the iteration's own

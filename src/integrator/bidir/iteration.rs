@@ -1,4 +1,4 @@
-//! One iteration of the bidirectional methods (docs/architecture.md, "vismap"): the hero
+//! One iteration of the bidirectional methods (docs/architecture.md §7.4): the hero
 //! wavelengths it shares between its camera and light passes, the camera paths and their
 //! visibility points with gather radii (the progressive schedule r_k^2 = r_1^2 prod (j - 1 +
 //! alpha) / j of Knaus & Zwicker 2011, scaled per pixel by a pilot photon pass and normalised by

@@ -1,11 +1,12 @@
 //! The bidirectional methods `vismap`, `adaptive`, `quasi` and `adaptive+quasi`: stochastic ray
-//! tracing with visibility maps (Zhdanov, Ershov & Voloboy 2015; docs/architecture.md). Each iteration shares one hero-wavelength set between a
-//! backward pass (one camera path per pixel, ending in a [`VisibilityPoint`] at the gather depth)
+//! tracing with visibility maps (Zhdanov, Ershov & Voloboy 2015; docs/architecture.md §7.4-7.5).
+//! Each iteration shares one hero-wavelength set between a backward pass (one camera path per
+//! pixel, ending in a [`VisibilityPoint`](visibility_point::VisibilityPoint) at the gather depth)
 //! and a forward pass of photons whose hits after >= 1 bounce add
 //! L^I = beta f(wo, wi) Phi / (N_F pi r^2) at the visibility points within radius r. The image is
 //! the average of the iterations' L^V + L^D + L^I. Radii shrink as progressive photon mapping's
 //! r_k^2 = r_{k-1}^2 (k - 1 + alpha) / k (Knaus & Zwicker 2011), so the average converges to the
-//! path tracer's image. The adaptive-depth (3.3) and quasi-specular (3.4) methods are the same
+//! path tracer's image. The adaptive-depth and quasi-specular methods (§7.5) are the same
 //! passes with a per-pixel gather depth and a cone C around ideal directions.
 
 pub mod adaptive_depth;
