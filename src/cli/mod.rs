@@ -39,8 +39,8 @@ enum Command {
         /// Write a false-colour PNG of the relative luminance difference (red: brighter).
         #[arg(long)]
         diff: Option<PathBuf>,
-        /// Also run the block z-test of the luminance against the reference with both images'
-        /// standard errors (exit code 1 when it fails).
+        /// Also run the block z-test of the beauty's luminance against the reference with both
+        /// images' standard errors (exit code 1 when it fails).
         #[arg(long)]
         z_test: bool,
     },
@@ -184,6 +184,12 @@ pub fn run() -> Result<()> {
         Command::Render(args) => render::render(args),
         Command::Compare { image, reference, layer, diff, z_test } => {
             use quasar::tools::{compare, ztest};
+            if z_test && layer.as_deref().is_some_and(|l| l != "beauty") {
+                // EXR files carry standard errors of the beauty only
+                anyhow::bail!(
+                    "--z-test tests the beauty (the EXR has standard errors of the beauty only); drop --layer"
+                );
+            }
             let a = quasar::output::read_exr(&image)?;
             let r = quasar::output::read_exr(&reference)?;
             let errors = compare::compare(&a, &r, layer.as_deref()).map_err(anyhow::Error::msg)?;
