@@ -182,8 +182,7 @@ impl SampledWavelengths {
             if up >= 1.0 {
                 up -= 1.0;
             }
-            lambda[i] = visible::sample(up);
-            pdf[i] = visible::pdf(lambda[i]);
+            (lambda[i], pdf[i]) = visible::sample(up);
         }
         Self { lambda, pdf }
     }
@@ -256,33 +255,59 @@ impl SampledWavelengths {
 }
 
 /// The visual importance density used by [`SampledWavelengths::sample_visible`].
+///
+/// p(lambda) = sech^2(A (lambda - C)) / N with N = (tanh(A (LAMBDA_MAX - C)) - tanh(A (LAMBDA_MIN - C))) / A.
+/// The CDF is (tanh(A (lambda - C)) - T0) / (A N), so sampling is lambda = C + atanh(t) / A for
+/// t = T0 + u (T1 - T0), and the density there is (1 - t^2) / N: one logarithm per wavelength
+/// (atanh), the end points T0, T1 and N folded into constants.
 mod visible {
     use super::{LAMBDA_MAX, LAMBDA_MIN};
     const A: f32 = 0.0072;
     const C: f32 = 538.0;
+    /// tanh(A (LAMBDA_MIN - C)) = tanh(-1.2816), to f32 precision (checked by a test).
+    const T0: f32 = -0.856_910_6;
+    /// tanh(A (LAMBDA_MAX - C)) = tanh(2.1024), to f32 precision (checked by a test).
+    const T1: f32 = 0.970_591_35;
+    /// The normalisation N = (T1 - T0) / A (nm).
+    const NORM: f32 = (T1 - T0) / A;
 
-    fn cdf_unnormalised(lambda: f32) -> f32 {
-        // integral of 1/cosh^2(A (l - C)) dl = tanh(A (l - C)) / A
-        (A * (lambda - C)).tanh() / A
-    }
-
-    fn norm() -> f32 {
-        cdf_unnormalised(LAMBDA_MAX) - cdf_unnormalised(LAMBDA_MIN)
-    }
-
+    /// Density (1/nm) at `lambda`; 0 outside [LAMBDA_MIN, LAMBDA_MAX].
+    #[cfg_attr(not(test), allow(dead_code))]
     pub fn pdf(lambda: f32) -> f32 {
         if !(LAMBDA_MIN..=LAMBDA_MAX).contains(&lambda) {
             return 0.0;
         }
-        let c = (A * (lambda - C)).cosh();
-        1.0 / (c * c * norm())
+        let t = (A * (lambda - C)).tanh();
+        (1.0 - t * t) / NORM
     }
 
-    pub fn sample(u: f32) -> f32 {
-        let t0 = (A * (LAMBDA_MIN - C)).tanh();
-        let t1 = (A * (LAMBDA_MAX - C)).tanh();
-        let t = t0 + u.clamp(0.0, 1.0) * (t1 - t0);
-        (C + t.clamp(-0.999_999, 0.999_999).atanh() / A).clamp(LAMBDA_MIN, LAMBDA_MAX)
+    /// Inverse-CDF sample and its density: (lambda, p(lambda)).
+    #[inline]
+    pub fn sample(u: f32) -> (f32, f32) {
+        let t = T0 + u.clamp(0.0, 1.0) * (T1 - T0);
+        // atanh(t) = 0.5 ln((1 + t) / (1 - t)); |t| <= T1 < 1
+        let lambda = (C + 0.5 * ((1.0 + t) / (1.0 - t)).ln() / A).clamp(LAMBDA_MIN, LAMBDA_MAX);
+        (lambda, (1.0 - t * t) / NORM)
+    }
+
+    #[cfg(test)]
+    mod tests {
+        use super::*;
+
+        #[test]
+        fn folded_constants_match_their_definition() {
+            assert!((T0 - (A * (LAMBDA_MIN - C)).tanh()).abs() < 1e-6);
+            assert!((T1 - (A * (LAMBDA_MAX - C)).tanh()).abs() < 1e-6);
+        }
+
+        #[test]
+        fn sampled_density_is_the_density_at_the_sample() {
+            for k in 0..=1000 {
+                let (l, p) = sample(k as f32 / 1000.0);
+                assert!((LAMBDA_MIN..=LAMBDA_MAX).contains(&l));
+                assert!((p - pdf(l)).abs() <= 1e-4 * p, "{l}: {p} vs {}", pdf(l));
+            }
+        }
     }
 }
 
