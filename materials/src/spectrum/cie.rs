@@ -19,14 +19,30 @@ fn lerp_table(table: &[f32], start: f32, lambda: f32) -> f32 {
     table[i] * (1.0 - t) + table[i + 1] * t
 }
 
-/// (xbar, ybar, zbar) at `lambda` nm; 0 outside 360..=830 nm.
+/// The three colour-matching tables interleaved, one (xbar, ybar, zbar) entry per knot, so that
+/// [`cmf`] finds its interval once for all three.
+const CMF_XYZ: [[f32; 3]; CIE_X.len()] = {
+    let mut t = [[0.0; 3]; CIE_X.len()];
+    let mut i = 0;
+    while i < t.len() {
+        t[i] = [CIE_X[i], CIE_Y[i], CIE_Z[i]];
+        i += 1;
+    }
+    t
+};
+
+/// (xbar, ybar, zbar) at `lambda` nm; 0 outside 360..=830 nm (the same linear interpolation as
+/// [`ybar`], done once for the three tables).
 #[inline]
 pub fn cmf(lambda: f32) -> [f32; 3] {
-    [
-        lerp_table(&CIE_X, CMF_LAMBDA_START, lambda),
-        lerp_table(&CIE_Y, CMF_LAMBDA_START, lambda),
-        lerp_table(&CIE_Z, CMF_LAMBDA_START, lambda),
-    ]
+    let x = (lambda - CMF_LAMBDA_START) / TABLE_STEP;
+    if x.is_nan() || x < 0.0 || x > (CMF_XYZ.len() - 1) as f32 {
+        return [0.0; 3];
+    }
+    let i = (x as usize).min(CMF_XYZ.len() - 2);
+    let t = x - i as f32;
+    let (a, b) = (CMF_XYZ[i], CMF_XYZ[i + 1]);
+    [0, 1, 2].map(|k| a[k] * (1.0 - t) + b[k] * t)
 }
 
 /// ybar at `lambda` nm (the photopic luminous efficiency V(lambda)).
@@ -66,6 +82,16 @@ mod tests {
         // CIE 015 tabulates A(400 nm) = 14.708 and A(700 nm) = 198.261.
         assert!((illuminant_a(400.0) - 14.708).abs() < 0.01, "{}", illuminant_a(400.0));
         assert!((illuminant_a(700.0) - 198.261).abs() < 0.02, "{}", illuminant_a(700.0));
+    }
+
+    #[test]
+    fn interleaved_cmf_is_the_three_tables() {
+        let mut l = 355.0;
+        while l < 835.0 {
+            let want = [&CIE_X, &CIE_Y, &CIE_Z].map(|t| lerp_table(t, CMF_LAMBDA_START, l));
+            assert_eq!(cmf(l), want, "{l}");
+            l += 0.73;
+        }
     }
 
     #[test]

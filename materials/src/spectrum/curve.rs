@@ -2,7 +2,7 @@
 
 use super::cie;
 use super::rgb_uplift::{RgbToSpectrumTable, SigmoidPolynomial, fit_or_nearest};
-use super::sampled::{LAMBDA_MAX, LAMBDA_MIN, N_SPECTRUM_SAMPLES, SampledSpectrum, SampledWavelengths};
+use super::sampled::{LAMBDA_MAX, LAMBDA_MIN, SampledSpectrum, SampledWavelengths};
 
 /// A CIE standard illuminant available by name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -142,6 +142,43 @@ fn luminance_of(f: impl Fn(f32) -> f32) -> f32 {
     (s / cie::CIE_Y_INTEGRAL as f64) as f32
 }
 
+/// A piecewise-linear table at `lambda`: zero outside [ls[0], ls[n-1]].
+#[inline]
+fn piecewise_linear(ls: &[f32], values: &[f32], lambda: f32) -> f32 {
+    let n = ls.len();
+    if !(lambda >= ls[0] && lambda <= ls[n - 1]) {
+        return 0.0;
+    }
+    if n == 1 {
+        return values[0];
+    }
+    let i = knot_interval(ls, lambda);
+    let t = (lambda - ls[i]) / (ls[i + 1] - ls[i]);
+    values[i] * (1.0 - t) + values[i + 1] * t
+}
+
+/// The interval of a strictly increasing knot table holding `lambda` (which lies in
+/// [ls[0], ls[n-1]], n >= 2): the i in 0..n-1 with ls[i] <= lambda < ls[i+1], or n-2 at the last
+/// knot. The first guess assumes evenly spaced knots (measured spectra usually are), so the common
+/// case costs one multiply; otherwise a binary search gives the same interval.
+#[inline]
+fn knot_interval(ls: &[f32], lambda: f32) -> usize {
+    let n = ls.len();
+    let last = n - 2;
+    let guess = (((lambda - ls[0]) * (last + 1) as f32 / (ls[n - 1] - ls[0])) as usize).min(last);
+    let holds = |i: usize| ls[i] <= lambda && (i == last || lambda < ls[i + 1]);
+    if holds(guess) {
+        guess
+    } else if guess > 0 && holds(guess - 1) {
+        guess - 1
+    } else if guess < last && holds(guess + 1) {
+        guess + 1
+    } else {
+        // first index with ls[i] > lambda, minus one
+        ls.partition_point(|&x| x <= lambda).clamp(1, n - 1) - 1
+    }
+}
+
 /// Planck's law, spectral radiance in W/(sr m^2 nm) at `lambda` nm (pbrt-v4 `Blackbody`).
 pub fn planck(lambda: f32, kelvin: f32) -> f32 {
     if kelvin <= 0.0 {
@@ -229,19 +266,7 @@ impl Spectrum {
     pub fn value(&self, lambda: f32) -> f32 {
         match self {
             Self::Constant(v) => *v,
-            Self::PiecewiseLinear { lambda: ls, values } => {
-                let n = ls.len();
-                if !(lambda >= ls[0] && lambda <= ls[n - 1]) {
-                    return 0.0;
-                }
-                if n == 1 {
-                    return values[0];
-                }
-                // first index with ls[i] > lambda, minus one
-                let i = ls.partition_point(|&x| x <= lambda).clamp(1, n - 1) - 1;
-                let t = (lambda - ls[i]) / (ls[i + 1] - ls[i]);
-                values[i] * (1.0 - t) + values[i + 1] * t
-            }
+            Self::PiecewiseLinear { lambda: ls, values } => piecewise_linear(ls, values, lambda),
             Self::Blackbody { kelvin, norm } => planck(lambda, *kelvin) * norm,
             Self::Illuminant { illuminant, norm } => illuminant.relative(lambda) * norm,
             Self::RgbReflectance(s) => s.model.eval(lambda),
@@ -255,13 +280,17 @@ impl Spectrum {
         }
     }
 
-    /// Values at the path's wavelengths.
+    /// Values at the path's wavelengths (the variant is matched once for all of them).
     #[inline]
     pub fn sample(&self, wl: &SampledWavelengths) -> SampledSpectrum {
-        if let Self::Constant(v) = self {
-            return SampledSpectrum::splat(*v);
+        match self {
+            Self::Constant(v) => SampledSpectrum::splat(*v),
+            Self::PiecewiseLinear { lambda: ls, values } => {
+                SampledSpectrum(wl.lambdas().map(|l| piecewise_linear(ls, values, l)))
+            }
+            Self::RgbReflectance(s) => SampledSpectrum(wl.lambdas().map(|l| s.model.eval(l))),
+            _ => SampledSpectrum(wl.lambdas().map(|l| self.value(l))),
         }
-        SampledSpectrum(std::array::from_fn::<f32, N_SPECTRUM_SAMPLES, _>(|i| self.value(wl.lambda(i))))
     }
 
     /// Largest value over 360..830 nm (1 nm grid plus table knots): bounds reflectances.
@@ -331,6 +360,24 @@ mod tests {
             Spectrum::rgb_illuminant([1.0, 1.0, 1.0]).unwrap(),
         ] {
             assert!((s.luminance() - 1.0).abs() < 1e-3, "{s:?}: {}", s.luminance());
+        }
+    }
+
+    #[test]
+    fn knot_interval_is_the_binary_search_interval() {
+        let even: Vec<f32> = (0..76).map(|i| 380.0 + 5.0 * i as f32).collect();
+        let uneven = vec![360.0, 361.0, 400.0, 401.5, 402.0, 650.0, 829.0, 830.0];
+        for ls in [even, uneven, vec![400.0, 700.0]] {
+            let mut l = ls[0];
+            while l <= ls[ls.len() - 1] {
+                let want = ls.partition_point(|&x| x <= l).clamp(1, ls.len() - 1) - 1;
+                assert_eq!(knot_interval(&ls, l), want, "{l} in {ls:?}");
+                l += 0.37;
+            }
+            for &l in &ls {
+                let want = ls.partition_point(|&x| x <= l).clamp(1, ls.len() - 1) - 1;
+                assert_eq!(knot_interval(&ls, l), want, "knot {l}");
+            }
         }
     }
 
