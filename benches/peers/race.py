@@ -1,0 +1,202 @@
+#!/usr/bin/env python3
+"""Equal-time race of quasar against Mitsuba 3 on the shipped scenes (issue 15, BENCHMARKS.md).
+
+For every scene, in one run on one machine:
+
+1. `quasar export-mitsuba` writes the scene for Mitsuba with quasar's conventions (the same
+   exporter as the cross-check, tests/crosscheck/); a scene Mitsuba cannot express (the
+   lightguide: dispersive PMMA and a tabulated extraction face) races quasar's methods only.
+2. The reference: Mitsuba (`--ref-variant`) at `--ref-spp`, in 8 batches whose spread gives the
+   reference's own noise; for a scene Mitsuba cannot express, quasar `pt` at `--ref-spp`.
+3. Mitsuba `path` renders for every budget in `--budgets` (seconds of rendering): its samples
+   per second are measured on a warm run (the JIT's kernel compiled), then it renders
+   rate x budget samples per pixel and the time it took is reported.
+4. quasar renders every `--methods` entry with `--time BUDGET` (seconds of rendering, the loop's
+   own clock; scene loading excluded as Mitsuba's is).
+5. Every image's relMSE of the luminance Y against the reference, mean((y - r)^2 / (r^2 + 1e-3))
+   (quasar compare's definition), less the reference's own expected contribution
+   mean(se_r^2 / (r^2 + 1e-3)); samples per second; and the time to reach relMSE 0.01 and 0.003,
+   extrapolated from the longest budget by relMSE ~ 1/t (the rate of every unbiased method here;
+   a method whose relMSE does not fall that way is flagged).
+
+Not part of CI (it takes minutes). Requires the Mitsuba venv of the cross-check:
+
+    python3 -m venv target/mitsuba-venv
+    target/mitsuba-venv/bin/pip install mitsuba==3.9.1 drjit==1.5.0 numpy OpenEXR
+    cargo build --release
+    target/mitsuba-venv/bin/python benches/peers/race.py --budgets 10 30
+
+The llvm variants need an LLVM shared library (Debian: `apt install libllvm19`; drjit finds
+libLLVM through DRJIT_LIBLLVM_PATH when its name is not the default).
+"""
+
+import argparse
+import os
+import subprocess
+import sys
+import time
+
+import numpy as np
+import OpenEXR
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tests", "crosscheck"))
+from crosscheck import CIE_Y_CORRECTION, write_exr  # noqa: E402
+
+import mitsuba as mi  # noqa: E402
+
+REL_EPS = 1e-3
+
+SCENES = [
+    "scenes/cornell-box/cornell-box.toml",
+    "scenes/glass-plate/glass-plate.toml",
+    "scenes/glossy-room/glossy-room.toml",
+    "scenes/lightguide/lightguide.toml",
+]
+
+
+def read_y(path):
+    with OpenEXR.File(path) as f:
+        ch = f.channels()
+        y = ch["Y"].pixels.astype(np.float64)
+        se = ch["stderr.Y"].pixels.astype(np.float64) if "stderr.Y" in ch else np.zeros_like(y)
+    return y, se
+
+
+def rel_mse(y, ref):
+    return float(np.mean((y - ref) ** 2 / (ref ** 2 + REL_EPS)))
+
+
+def mitsuba_render(scene, spp, seed):
+    t0 = time.time()
+    img = mi.render(scene, seed=seed, spp=spp)
+    y = np.array(img)[:, :, 1].astype(np.float64) * CIE_Y_CORRECTION
+    return y, time.time() - t0
+
+
+def mitsuba_reference(scene, spp, batches=8):
+    ys = [mitsuba_render(scene, max(1, spp // batches), 1000 + k)[0] for k in range(batches)]
+    ys = np.stack(ys)
+    return ys.mean(axis=0), ys.std(axis=0, ddof=1) / np.sqrt(batches)
+
+
+def quasar_render(a, scene, out, method, budget=None, spp=None, seed=1):
+    cmd = [a.quasar, "render", scene, "--method", method, "--width", str(a.width), "--height", str(a.height),
+           "--seed", str(seed), "--quiet", "-o", out]
+    if a.masking_separable:
+        cmd += ["--masking", "separable"]
+    cmd += ["--time", str(budget)] if budget is not None else ["--spp", str(spp)]
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if p.returncode != 0:
+        raise RuntimeError(f"{' '.join(cmd)} failed:\n{p.stderr}")
+    # the render's own clock and sample count, from the EXR header text (read while the file is open)
+    meta = {}
+    with OpenEXR.File(out) as f:
+        for v in f.header().values():
+            if isinstance(v, str) and "render_time_s" in v:
+                for line in v.splitlines():
+                    k, _, val = line.partition("=")
+                    meta[k.strip()] = val.strip()
+    y, _ = read_y(out)
+    return y, float(meta.get("render_time_s", "nan")), meta.get("spp", meta.get("iterations", "?"))
+
+
+def time_to(target, t, err):
+    """Time to reach relMSE `target`, by relMSE ~ 1/t from the point (t, err)."""
+    if not (err > 0 and t > 0):
+        return float("nan")
+    return t * err / target
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quasar", default="target/release/quasar")
+    ap.add_argument("--out", default="target/peers")
+    ap.add_argument("--width", type=int, default=128)
+    ap.add_argument("--height", type=int, default=128)
+    ap.add_argument("--budgets", type=float, nargs="+", default=[10.0, 30.0])
+    ap.add_argument("--methods", nargs="+", default=["pt", "auto"])
+    ap.add_argument("--variant", default="llvm_ad_spectral", help="Mitsuba variant raced")
+    ap.add_argument("--ref-variant", default="llvm_ad_spectral")
+    ap.add_argument("--ref-spp", type=int, default=16384)
+    ap.add_argument("--masking-separable", action="store_true", default=True,
+                    help="quasar uses Mitsuba's GGX masking form (the default here, so both render one image)")
+    ap.add_argument("scenes", nargs="*", default=SCENES)
+    a = ap.parse_args()
+    os.makedirs(a.out, exist_ok=True)
+    rows = []
+    for scene_path in a.scenes:
+        name = os.path.splitext(os.path.basename(scene_path))[0]
+        d = os.path.join(a.out, name)
+        os.makedirs(d, exist_ok=True)
+        exp = subprocess.run([a.quasar, "export-mitsuba", scene_path, "-o", d, "--width", str(a.width),
+                              "--height", str(a.height), "--spp", "1"], capture_output=True, text=True)
+        expressible = exp.returncode == 0
+        t0 = time.time()
+        if expressible:
+            mi.set_variant(a.ref_variant)
+            ref, ref_se = mitsuba_reference(mi.load_file(os.path.join(d, "scene.xml")), a.ref_spp)
+            ref_by = f"Mitsuba {a.ref_variant} {a.ref_spp} spp"
+        else:
+            reason = exp.stderr.strip().splitlines()[-1].split("cannot be written for Mitsuba: ")[-1]
+            print(f"{name}: Mitsuba cannot render it ({reason}); quasar methods only", file=sys.stderr)
+            out = os.path.join(d, "reference.exr")
+            quasar_render(a, scene_path, out, "pt", spp=a.ref_spp, seed=999)
+            ref, ref_se = read_y(out)
+            ref_by = f"quasar pt {a.ref_spp} spp"
+        write_exr(os.path.join(d, "reference.exr"), ref.astype(np.float32), ref_se.astype(np.float32))
+        floor = float(np.mean(ref_se ** 2 / (ref ** 2 + REL_EPS)))
+        print(f"{name}: reference ({ref_by}) in {time.time() - t0:.0f} s, its own relMSE {floor:.2e}",
+              file=sys.stderr)
+        results = {}
+        if expressible:
+            mi.set_variant(a.variant)
+            scene = mi.load_file(os.path.join(d, "scene.xml"))
+            mitsuba_render(scene, 4, 0)  # compiles the kernel
+            _, tw = mitsuba_render(scene, 64, 1)
+            rate = 64 / tw
+            for b in a.budgets:
+                spp = max(1, int(rate * b))
+                y, t = mitsuba_render(scene, spp, 7)
+                results.setdefault(f"Mitsuba path ({a.variant})", []).append((b, t, spp, rel_mse(y, ref) - floor))
+        for m in a.methods:
+            for b in a.budgets:
+                out = os.path.join(d, f"{m.replace('+', '_')}_{int(b)}s.exr")
+                y, t, n = quasar_render(a, scene_path, out, m, budget=b)
+                results.setdefault(f"quasar {m}", []).append((b, t, n, rel_mse(y, ref) - floor))
+        rows.append((name, ref_by, floor, results))
+        print_scene(a, rows[-1])
+    return 0
+
+
+def print_scene(a, row):
+    name, ref_by, floor, results = row
+    pixels = a.width * a.height
+    print(f"\n### {name} ({a.width}x{a.height}; reference {ref_by}, its own relMSE {floor:.1e} subtracted)\n")
+    base = results.get(next((k for k in results if k.startswith("Mitsuba")), ""), None)
+    head = "| renderer | " + " | ".join(f"relMSE at {b:g} s (spp)" for b in a.budgets)
+    print(head + " | samples/s | time to 0.01 | time to 0.003 | vs Mitsuba at 0.01 |")
+    print("|---" * (len(a.budgets) + 5) + "|")
+    for k, runs in results.items():
+        cells = " | ".join(f"{e:.4f} ({n})" for (_, _, n, e) in runs)
+        b, t, n, e = runs[-1]
+        try:
+            sps = float(n) * pixels / t
+            sps_s = f"{sps / 1e6:.2f} M"
+        except ValueError:
+            sps_s = "-"
+        t1, t3 = time_to(0.01, t, e), time_to(0.003, t, e)
+        flag = ""
+        if len(runs) > 1 and runs[0][3] > 0 and e > 0:
+            slope = np.log(e / runs[0][3]) / np.log(t / runs[0][1])
+            if slope > -0.8:
+                flag = f" (relMSE ~ t^{slope:.2f}: extrapolation unreliable)"
+        ratio = ""
+        if base is not None:
+            bt = time_to(0.01, base[-1][1], base[-1][3])
+            ratio = f"{bt / t1:.2f}x" if t1 > 0 else ""
+        print(f"| {k} | {cells} | {sps_s} | {t1:.1f} s{flag} | {t3:.1f} s | {ratio} |")
+    sys.stdout.flush()
+
+
+if __name__ == "__main__":
+    sys.exit(main())
