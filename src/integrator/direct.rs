@@ -71,7 +71,8 @@ pub fn sample_direct_outside(
     if !ls.delta && excluded(wi_local) {
         return SampledSpectrum::zero();
     }
-    let f = bsdf.f(wo_local, wi_local, TransportMode::Radiance) * wi_local.z.abs();
+    let (f, p_bsdf) = bsdf.f_pdf(wo_local, wi_local, TransportMode::Radiance);
+    let f = f * wi_local.z.abs();
     if f.is_black() {
         return SampledSpectrum::zero();
     }
@@ -79,12 +80,7 @@ pub fn sample_direct_outside(
         return SampledSpectrum::zero();
     }
     let p_light = p_select * ls.pdf;
-    let w = if ls.delta {
-        1.0
-    } else {
-        let p_bsdf = bsdf.pdf(wo_local, wi_local, TransportMode::Radiance);
-        power_heuristic(p_light, p_bsdf)
-    };
+    let w = if ls.delta { 1.0 } else { power_heuristic(p_light, p_bsdf) };
     f * ls.li * (w / p_light)
 }
 

@@ -90,6 +90,18 @@ impl ConductorBsdf {
         }
     }
 
+    /// [`f`](Self::f) and [`pdf`](Self::pdf) from one evaluation of the microfacet terms.
+    #[inline]
+    pub fn f_pdf(&self, wo: Vec3, wi: Vec3) -> (SampledSpectrum, f32) {
+        if self.is_specular() {
+            return (SampledSpectrum::zero(), 0.0);
+        }
+        match self.orientation(wo) {
+            Some(fl) => self.eval_upper(flip(wo, fl), flip(wi, fl), true),
+            None => (SampledSpectrum::zero(), 0.0),
+        }
+    }
+
     /// Mirror: wi = (-wo.x, -wo.y, wo.z), f = F(cos) / cos, pdf = 1. Rough: a visible normal
     /// wm ~ D_wo, wi = reflect(wo, wm), pdf = D_wo(wm) / (4 |wo . wm|) (reflection Jacobian).
     pub fn sample_f(&self, wo: Vec3, u: Vec2, _mode: TransportMode) -> Option<BsdfSample> {
@@ -174,6 +186,9 @@ mod tests {
                     assert!(wo.z > 0.0 || two_sided);
                     assert!((s.wi.z > 0.0) == (wo.z > 0.0) && !s.specular);
                     let (f, pdf) = (b.f(wo, s.wi), b.pdf(wo, s.wi));
+                    assert_eq!(b.f_pdf(wo, s.wi), (f, pdf));
+                    let wi = random_dir(&mut rng);
+                    assert_eq!(b.f_pdf(wo, wi), (b.f(wo, wi), b.pdf(wo, wi)));
                     assert!((pdf - s.pdf).abs() <= 1e-4 * pdf, "{pdf} {}", s.pdf);
                     let w1 = s.f[0] * s.wi.z.abs() / s.pdf;
                     let w2 = f[0] * s.wi.z.abs() / pdf;

@@ -93,6 +93,16 @@ impl DielectricBsdf {
         SampledSpectrum::splat(self.eval_rough(wo, wi, mode).0)
     }
 
+    /// [`f`](Self::f) and [`pdf`](Self::pdf) from one evaluation of the rough model.
+    #[inline]
+    pub fn f_pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> (SampledSpectrum, f32) {
+        if self.is_specular() {
+            return (SampledSpectrum::zero(), 0.0);
+        }
+        let (f, pdf) = self.eval_rough(wo, wi, mode);
+        (SampledSpectrum::splat(f), pdf)
+    }
+
     /// Solid-angle density of `sample_f` (0 for a smooth interface).
     pub fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
         if self.is_specular() {
@@ -240,6 +250,9 @@ mod tests {
                         assert!(!s.specular);
                         assert_eq!(s.lobe == Lobe::Reflection, (s.wi.z > 0.0) == (wo.z > 0.0));
                         let (f, pdf) = (b.f(wo, s.wi, mode)[0], b.pdf(wo, s.wi, mode));
+                        assert_eq!(b.f_pdf(wo, s.wi, mode), (SampledSpectrum::splat(f), pdf));
+                        let wi = random_dir(&mut rng);
+                        assert_eq!(b.f_pdf(wo, wi, mode), (b.f(wo, wi, mode), b.pdf(wo, wi, mode)));
                         assert!((pdf - s.pdf).abs() <= 1e-4 * pdf && (f - s.f[0]).abs() <= 1e-4 * f);
                         let w = s.f[0] * s.wi.z.abs() / s.pdf;
                         if mode == TransportMode::Importance {

@@ -45,6 +45,15 @@ impl DiffuseBsdf {
         }
     }
 
+    /// [`f`](Self::f) and [`pdf`](Self::pdf) together.
+    #[inline]
+    pub fn f_pdf(&self, wo: Vec3, wi: Vec3) -> (SampledSpectrum, f32) {
+        match self.side(wo) {
+            Some(s) if wi.z * s > 0.0 && !self.r.is_black() => (self.r * FRAC_1_PI, wi.z.abs() * FRAC_1_PI),
+            _ => (SampledSpectrum::zero(), 0.0),
+        }
+    }
+
     /// Cosine-weighted sample on wo's side; the weight f |cos| / pdf is exactly R.
     pub fn sample_f(&self, wo: Vec3, u: Vec2, _mode: TransportMode) -> Option<BsdfSample> {
         let s = self.side(wo)?;
@@ -87,6 +96,11 @@ mod tests {
         assert!(two.f(down, up).is_black() && one.f(up, down).is_black());
         let s = two.sample_f(down, Vec2::new(0.3, 0.8), TransportMode::Radiance).unwrap();
         assert!(s.wi.z < 0.0 && (s.pdf - two.pdf(down, s.wi)).abs() < 1e-6);
+        for b in [one, two, DiffuseBsdf::new(SampledSpectrum::zero(), true)] {
+            for (wo, wi) in [(up, up), (up, down), (down, down), (down, up), (Vec3::X, up)] {
+                assert_eq!(b.f_pdf(wo, wi), (b.f(wo, wi), b.pdf(wo, wi)));
+            }
+        }
         // wo exactly in the tangent plane: no side to reflect on.
         assert!(two.sample_f(Vec3::X, Vec2::splat(0.5), TransportMode::Radiance).is_none());
     }

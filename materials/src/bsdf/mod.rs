@@ -135,6 +135,19 @@ impl Bsdf<'_> {
         }
     }
 
+    /// (f(wo, wi), pdf(wo, wi)) together, for next-event estimation with MIS: the analytic
+    /// models share their half vector, Fresnel and microfacet terms between the two.
+    #[inline]
+    pub fn f_pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> (SampledSpectrum, f32) {
+        match self {
+            Bsdf::Black => (SampledSpectrum::zero(), 0.0),
+            Bsdf::Diffuse(b) => b.f_pdf(wo, wi),
+            Bsdf::Conductor(b) => b.f_pdf(wo, wi),
+            Bsdf::Dielectric(b) => b.f_pdf(wo, wi, mode),
+            Bsdf::Tabulated(b) => (b.f(wo, wi, mode), b.pdf(wo, wi, mode)),
+        }
+    }
+
     /// Samples wi given wo and three uniform numbers in [0, 1): `uc` picks the lobe, `u` the
     /// direction. None when nothing is scattered (black side, absorbed, below the horizon).
     pub fn sample_f(&self, wo: Vec3, uc: f32, u: glam::Vec2, mode: TransportMode) -> Option<BsdfSample> {
