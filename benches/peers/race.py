@@ -32,6 +32,8 @@ libLLVM through DRJIT_LIBLLVM_PATH when its name is not the default).
 
 import argparse
 import os
+import re
+import shlex
 import subprocess
 import sys
 import time
@@ -41,6 +43,11 @@ import OpenEXR
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tests", "crosscheck"))
 from crosscheck import CIE_Y_CORRECTION, write_exr  # noqa: E402
+
+# drjit looks for libLLVM.so; Debian's libllvm19 installs it as libLLVM-19.so
+for _llvm in ("/usr/lib/x86_64-linux-gnu/libLLVM-19.so", "/usr/lib/llvm-19/lib/libLLVM.so"):
+    if "DRJIT_LIBLLVM_PATH" not in os.environ and os.path.exists(_llvm):
+        os.environ["DRJIT_LIBLLVM_PATH"] = _llvm
 
 import mitsuba as mi  # noqa: E402
 
@@ -80,8 +87,11 @@ def mitsuba_reference(scene, spp, batches=8):
 
 
 def quasar_render(a, scene, out, method, budget=None, spp=None, seed=1):
-    cmd = [a.quasar, "render", scene, "--method", method, "--width", str(a.width), "--height", str(a.height),
-           "--seed", str(seed), "--quiet", "-o", out]
+    """Renders with `method`: a method name, optionally followed by render flags
+    ("auto --photons-per-iteration 65536")."""
+    words = shlex.split(method)
+    cmd = [a.quasar, "render", scene, "--method", words[0], *words[1:], "--width", str(a.width),
+           "--height", str(a.height), "--seed", str(seed), "--quiet", "-o", out]
     if a.masking_separable:
         cmd += ["--masking", "separable"]
     cmd += ["--time", str(budget)] if budget is not None else ["--spp", str(spp)]
@@ -114,8 +124,9 @@ def main():
     ap.add_argument("--width", type=int, default=128)
     ap.add_argument("--height", type=int, default=128)
     ap.add_argument("--budgets", type=float, nargs="+", default=[10.0, 30.0])
-    ap.add_argument("--methods", nargs="+", default=["pt", "auto"])
-    ap.add_argument("--variant", default="llvm_ad_spectral", help="Mitsuba variant raced")
+    ap.add_argument("--methods", nargs="+", default=["pt", "auto"],
+                    help="quasar methods raced, each a name optionally followed by render flags, quoted")
+    ap.add_argument("--variant", default="llvm_ad_spectral", help="Mitsuba variant raced ('none': quasar only)")
     ap.add_argument("--ref-variant", default="llvm_ad_spectral")
     ap.add_argument("--ref-spp", type=int, default=16384)
     ap.add_argument("--masking-separable", action="store_true", default=True,
@@ -148,7 +159,7 @@ def main():
         print(f"{name}: reference ({ref_by}) in {time.time() - t0:.0f} s, its own relMSE {floor:.2e}",
               file=sys.stderr)
         results = {}
-        if expressible:
+        if expressible and a.variant != "none":
             mi.set_variant(a.variant)
             scene = mi.load_file(os.path.join(d, "scene.xml"))
             mitsuba_render(scene, 4, 0)  # compiles the kernel
@@ -160,7 +171,7 @@ def main():
                 results.setdefault(f"Mitsuba path ({a.variant})", []).append((b, t, spp, rel_mse(y, ref) - floor))
         for m in a.methods:
             for b in a.budgets:
-                out = os.path.join(d, f"{m.replace('+', '_')}_{int(b)}s.exr")
+                out = os.path.join(d, f"{re.sub('[^A-Za-z0-9]+', '_', m)}_{int(b)}s.exr")
                 y, t, n = quasar_render(a, scene_path, out, m, budget=b)
                 results.setdefault(f"quasar {m}", []).append((b, t, n, rel_mse(y, ref) - floor))
         rows.append((name, ref_by, floor, results))

@@ -37,7 +37,28 @@ pub enum CompileError {
     },
 }
 
-/// A surface point hit by a ray.
+/// A ray's hit with its geometry only: what probe rays need ([`Scene::intersect_geometry`]).
+#[derive(Clone, Copy, Debug)]
+pub struct GeometricHit {
+    /// Position (computed from barycentrics), as in [`SurfaceInteraction::p`].
+    pub p: Vec3,
+    /// Absolute per-axis rounding-error bound of `p`.
+    pub p_err: Vec3,
+    /// Unit geometric normal (the triangle's winding), as in [`SurfaceInteraction::ng`].
+    pub ng: Vec3,
+    /// Ray distance to the hit.
+    pub t: f32,
+}
+
+impl GeometricHit {
+    /// A ray leaving the hit in direction `w`, offset past the rounding error of `p` (the
+    /// same origin [`SurfaceInteraction::spawn_ray`] gives).
+    pub fn spawn_ray(&self, w: Vec3) -> Ray {
+        Ray::new(crate::core::geometry::offset_origin(self.p, self.p_err, self.ng, w), w)
+    }
+}
+
+/// A surface point hit by a ray, with everything shading needs.
 #[derive(Clone, Copy, Debug)]
 pub struct SurfaceInteraction {
     /// Position (computed from barycentrics).
@@ -332,6 +353,16 @@ impl Scene {
     pub fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction> {
         let h = self.accel.intersect(ray)?;
         Some(self.interaction(ray, &h))
+    }
+
+    /// The closest hit along `ray` with its geometry only (point, error bound, geometric normal):
+    /// for probes that need no shading normal, texture coordinates or material.
+    #[inline]
+    pub fn intersect_geometry(&self, ray: &Ray) -> Option<GeometricHit> {
+        let h = self.accel.intersect(ray)?;
+        let g = &self.accel.geom[h.prim as usize];
+        let (p, p_err) = g.point_with_error(h.b1, h.b2);
+        Some(GeometricHit { p, p_err, ng: g.normal_unnormalised().normalize_or_zero(), t: h.t })
     }
 
     /// True when the segment of `ray` up to `t_max` is blocked.

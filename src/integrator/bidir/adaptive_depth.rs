@@ -4,7 +4,8 @@
 //! that each iteration stays an unbiased estimate (the paper's own variant, the iteration's own
 //! first ray, is kept behind `--adaptive-paper` and is biased). Pilot paths of every iteration
 //! are traced on every render share, in iteration order, so shards and resumed renders choose
-//! the depths the uninterrupted render chooses.
+//! the depths the uninterrupted render chooses. After [`PILOT_ITERATIONS`] iterations the
+//! histogram stays as it is.
 
 use glam::Vec2;
 use quasar_materials::spectrum::SampledWavelengths;
@@ -17,6 +18,12 @@ use crate::core::camera::Camera;
 use crate::core::sampling::{Sampler, mix64};
 use crate::core::scene::Scene;
 use crate::film::Channel;
+
+/// Iterations with pilot paths: from then on the histogram (this many pilots plus iteration 0's
+/// per pixel) is kept as it is, so that a long render stops paying for a camera path per pixel
+/// and iteration that no longer changes the depths (measured on the glass plate: the pilots were
+/// 14% of an iteration's time; a depth chosen as the mode of 33 pilots is as good as any later).
+pub const PILOT_ITERATIONS: u32 = 32;
 
 /// Depths a histogram tracks.
 const BINS: usize = MAX_ADAPTIVE_DEPTH as usize + 1;
@@ -92,7 +99,7 @@ impl GatherDepths {
                 let pilot_seed = mix64(seed ^ 0x0070_696c_6f74);
                 // the pilots of iterations 1..k (k's own only informs later iterations), and
                 // before iteration 1 an extra pilot (stream 0) so that it has a depth to use
-                while self.pilots + 1 < k || self.pilots == 0 {
+                while (self.pilots + 1 < k && self.pilots < PILOT_ITERATIONS) || self.pilots == 0 {
                     let j = self.pilots + 1;
                     let wl = wl_of(j);
                     if j == 1 {
@@ -107,10 +114,12 @@ impl GatherDepths {
                     self.pilots = j;
                 }
                 let chosen = (0..n).map(|i| Some(self.mode(i))).collect();
-                let wl = wl_of(k);
-                let next = (0..n).into_par_iter().map(|i| pilot(i, pilot_seed, k, wl, max_depth)).collect();
-                self.add(next);
-                self.pilots = k;
+                if k <= PILOT_ITERATIONS && self.pilots < k {
+                    let wl = wl_of(k);
+                    let next = (0..n).into_par_iter().map(|i| pilot(i, pilot_seed, k, wl, max_depth)).collect();
+                    self.add(next);
+                    self.pilots = k;
+                }
                 chosen
             }
         }

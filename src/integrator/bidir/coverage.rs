@@ -43,7 +43,7 @@ fn covered(scene: &Scene, vp: &VisibilityPoint, frame: &Frame, side: f32, r: f32
     for _ in 0..4 {
         let mut ray = Ray::new(origin, dir);
         ray.t_max = left;
-        let Some(hit) = scene.intersect(&ray) else { return false };
+        let Some(hit) = scene.intersect_geometry(&ray) else { return false };
         if hit.ng.dot(vp.ng) >= MIN_NORMAL_COS {
             return true;
         }

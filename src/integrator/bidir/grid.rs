@@ -2,6 +2,7 @@
 //! each cell its gather sphere overlaps, so a photon looks up only the cell it landed in.
 
 use glam::{IVec3, Vec3};
+use rayon::prelude::*;
 
 /// Spatial hash of visibility points with per-point radii, built once per iteration.
 pub struct VisibilityGrid {
@@ -20,6 +21,9 @@ fn hash_cell(c: IVec3) -> u64 {
         ^ (c.z as u32 as u64).wrapping_mul(83_492_791);
     crate::core::sampling::mix64(h)
 }
+
+/// Points per parallel task of the grid build.
+const GRID_CHUNK: usize = 2048;
 
 /// The largest number of cells one point may be entered in, per axis (keeps outliers with huge
 /// radii from blowing the grid up; their cell range is exact, only the cell size adapts).
@@ -47,38 +51,47 @@ impl VisibilityGrid {
         let inv_cell = 1.0 / cell;
         let buckets = (points.len() * 2).next_power_of_two().max(16) as u64;
         let mask = buckets - 1;
-        // (bucket, point) pairs, each point once per distinct bucket
-        let mut pairs: Vec<(u32, u32)> = Vec::with_capacity(points.len() * 8);
-        let mut mine: Vec<u32> = Vec::new();
-        for (i, (p, r)) in points.iter().enumerate() {
-            if !(r.is_finite() && *r > 0.0) {
-                continue;
-            }
-            let a = ((*p - Vec3::splat(*r) - lo) * inv_cell).floor().as_ivec3();
-            let b = ((*p + Vec3::splat(*r) - lo) * inv_cell).floor().as_ivec3();
-            mine.clear();
-            for z in a.z..=b.z {
-                for y in a.y..=b.y {
-                    for x in a.x..=b.x {
-                        mine.push((hash_cell(IVec3::new(x, y, z)) & mask) as u32);
+        // (bucket, point) pairs, each point once per distinct bucket, in point order: chunks of
+        // points in parallel, concatenated in chunk order
+        let chunks: Vec<Vec<(u32, u32)>> = points
+            .par_chunks(GRID_CHUNK)
+            .enumerate()
+            .map(|(c, chunk)| {
+                let mut pairs = Vec::with_capacity(chunk.len() * 4);
+                let mut mine: Vec<u32> = Vec::new();
+                for (j, (p, r)) in chunk.iter().enumerate() {
+                    if !(r.is_finite() && *r > 0.0) {
+                        continue;
                     }
+                    let a = ((*p - Vec3::splat(*r) - lo) * inv_cell).floor().as_ivec3();
+                    let b = ((*p + Vec3::splat(*r) - lo) * inv_cell).floor().as_ivec3();
+                    mine.clear();
+                    for z in a.z..=b.z {
+                        for y in a.y..=b.y {
+                            for x in a.x..=b.x {
+                                mine.push((hash_cell(IVec3::new(x, y, z)) & mask) as u32);
+                            }
+                        }
+                    }
+                    mine.sort_unstable();
+                    mine.dedup();
+                    let i = (c * GRID_CHUNK + j) as u32;
+                    pairs.extend(mine.iter().map(|&bk| (bk, i)));
                 }
-            }
-            mine.sort_unstable();
-            mine.dedup();
-            pairs.extend(mine.iter().map(|&bk| (bk, i as u32)));
-        }
+                pairs
+            })
+            .collect();
         // counting sort by bucket, stable in point order
         let mut starts = vec![0u32; buckets as usize + 1];
-        for &(bk, _) in &pairs {
+        for &(bk, _) in chunks.iter().flatten() {
             starts[bk as usize + 1] += 1;
         }
         for k in 0..buckets as usize {
             starts[k + 1] += starts[k];
         }
         let mut fill = starts.clone();
-        let mut entries = vec![0u32; pairs.len()];
-        for &(bk, i) in &pairs {
+        let mut entries = vec![0u32; starts[buckets as usize] as usize];
+        for &(bk, i) in chunks.iter().flatten() {
             entries[fill[bk as usize] as usize] = i;
             fill[bk as usize] += 1;
         }

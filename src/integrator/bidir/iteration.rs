@@ -6,6 +6,7 @@
 //! estimate L^I = beta sum(f Phi) / (N pi r^2 c).
 
 use std::f64::consts::PI;
+use std::time::Instant;
 
 use glam::Vec2;
 use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -68,6 +69,53 @@ pub struct IterationResult<'s> {
     pub photons: photon_pass::PhotonPassResult,
     /// Bytes of the visibility grid.
     pub grid_bytes: usize,
+    /// Wall-clock seconds of each phase.
+    pub seconds: PhaseSeconds,
+}
+
+/// Wall-clock seconds of the phases of bidirectional iterations (summed over iterations): what
+/// the header's `time_share` reports.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PhaseSeconds {
+    /// Gather-depth and radius pilots.
+    pub pilots: f64,
+    /// Camera paths to the visibility points.
+    pub camera: f64,
+    /// Gather radii and their covered shares (probe rays).
+    pub coverage: f64,
+    /// The visibility grid.
+    pub grid: f64,
+    /// Tracing the photons and gathering them.
+    pub photons: f64,
+    /// Estimates into the film.
+    pub film: f64,
+}
+
+impl PhaseSeconds {
+    /// Adds `o` phase by phase.
+    pub fn add(&mut self, o: &PhaseSeconds) {
+        self.pilots += o.pilots;
+        self.camera += o.camera;
+        self.coverage += o.coverage;
+        self.grid += o.grid;
+        self.photons += o.photons;
+        self.film += o.film;
+    }
+
+    /// "pilots 2%, camera 21%, ..." : each phase's share of their sum.
+    pub fn shares(&self) -> String {
+        let phases = [
+            ("pilots", self.pilots),
+            ("camera", self.camera),
+            ("coverage", self.coverage),
+            ("grid", self.grid),
+            ("photons", self.photons),
+            ("film", self.film),
+        ];
+        let total: f64 = phases.iter().map(|p| p.1).sum();
+        let total = if total > 0.0 { total } else { 1.0 };
+        phases.iter().map(|(n, s)| format!("{n} {:.0}%", 100.0 * s / total)).collect::<Vec<_>>().join(", ")
+    }
 }
 
 impl Iteration {
@@ -84,6 +132,13 @@ impl Iteration {
         radius_of: impl Fn(usize, &VisibilityPoint) -> f32 + Sync,
     ) -> IterationResult<'s> {
         let w = camera.width() as usize;
+        let mut seconds = PhaseSeconds::default();
+        let mut clock = Instant::now();
+        let mut lap = |phase: &mut f64| {
+            let now = Instant::now();
+            *phase += (now - clock).as_secs_f64();
+            clock = now;
+        };
         let paths: Vec<CameraPathResult> = (0..depths.len())
             .into_par_iter()
             .map(|i| {
@@ -103,6 +158,7 @@ impl Iteration {
                 point_wl.push(p.wl);
             }
         }
+        lap(&mut seconds.camera);
         let radii: Vec<GatherRadii> = (0..points.len())
             .into_par_iter()
             .map(|j| {
@@ -115,8 +171,10 @@ impl Iteration {
                 GatherRadii { indirect: r, caustic: rc, indirect_coverage: ci, caustic_coverage: cc }
             })
             .collect();
+        lap(&mut seconds.coverage);
         let grid_input: Vec<_> = points.iter().zip(&radii).map(|(p, r)| (p.p, r.indirect)).collect();
         let grid = VisibilityGrid::build(&grid_input);
+        lap(&mut seconds.grid);
         let photons = trace_photons(
             scene,
             &self.wl,
@@ -129,7 +187,8 @@ impl Iteration {
             self.k,
             base_rule.cone_cos,
         );
-        IterationResult { paths, owners, points, radii, photons, grid_bytes: grid.memory_bytes() }
+        lap(&mut seconds.photons);
+        IterationResult { paths, owners, points, radii, photons, grid_bytes: grid.memory_bytes(), seconds }
     }
 }
 

@@ -10,7 +10,9 @@ use std::time::Instant;
 use quasar_materials::spectrum::SampledWavelengths;
 
 use super::adaptive_depth::GatherDepths;
-use super::iteration::{Iteration, IterationResult, iteration_wavelength_u, radius_pilot, radius2_factor};
+use super::iteration::{
+    Iteration, IterationResult, PhaseSeconds, iteration_wavelength_u, radius_pilot, radius2_factor,
+};
 use super::settings::VismapSettings;
 use super::visibility_point::{GatherRule, VisibilityPoint};
 use crate::core::bytes::{ByteReader, ByteWriter};
@@ -33,6 +35,8 @@ pub struct VismapStats {
     pub grid_bytes: usize,
     /// Most visibility points of an iteration.
     pub max_points: usize,
+    /// Seconds per phase, summed over the iterations.
+    pub seconds: PhaseSeconds,
 }
 
 /// A bidirectional render in progress.
@@ -104,7 +108,9 @@ impl<'s> Bidirectional<'s> {
 
     /// Renders iteration `k` into `film`.
     fn iteration(&mut self, film: &mut Film, k: u32) {
+        let t = Instant::now();
         let depths = self.depths_for(k);
+        let pilots = t.elapsed().as_secs_f64();
         let (settings, n_photons) = (self.settings, self.n_photons);
         let pixel_angle = self.camera.pixel_solid_angle().sqrt();
         let shrink = radius2_factor(k, settings.alpha.clamp(1e-3, 1.0) as f64).sqrt() as f32;
@@ -115,9 +121,11 @@ impl<'s> Bidirectional<'s> {
         let it = Iteration { seed: self.seed, photon_seed: self.photon_seed(), k, wl: self.wavelengths(k), n_photons };
         let t = Instant::now();
         let result: IterationResult = it.run(self.scene, self.camera, &settings, &self.rule, &depths, radius_of);
+        let t_film = Instant::now();
         film.add_batch(&result.estimates(n_photons));
         self.depths.record(&depths);
         let s = &mut self.stats;
+        s.seconds.add(&PhaseSeconds { pilots, film: t_film.elapsed().as_secs_f64(), ..result.seconds });
         s.grid_bytes = s.grid_bytes.max(result.grid_bytes);
         s.max_points = s.max_points.max(result.points.len());
         s.photon_seconds += t.elapsed().as_secs_f64();
@@ -182,6 +190,7 @@ impl RenderMethod for Bidirectional<'_> {
         let pixels = self.camera.width() as u64 * self.camera.height() as u64;
         let mut h = self.settings.header(pixels);
         h.push(("photons".into(), self.stats.photons.to_string()));
+        h.push(("time_share".into(), self.stats.seconds.shares()));
         h
     }
 }
