@@ -91,7 +91,7 @@ fn lightguide_under_every_method() {
     }
 }
 
-/// `auto` at its default settings (one photon per pixel, the automatic radius) converges on
+/// `auto` at its default settings (two photons per pixel, the automatic radius) converges on
 /// the shipped scenes it renders with a bidirectional method, at 256 iterations.
 #[test]
 fn auto_at_default_settings_converges_on_the_shipped_scenes() {

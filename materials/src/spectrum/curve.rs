@@ -289,6 +289,9 @@ impl Spectrum {
                 SampledSpectrum(wl.lambdas().map(|l| piecewise_linear(ls, values, l)))
             }
             Self::RgbReflectance(s) => SampledSpectrum(wl.lambdas().map(|l| s.model.eval(l))),
+            Self::Illuminant { illuminant, norm } => {
+                SampledSpectrum(wl.lambdas().map(|l| illuminant.relative(l) * norm))
+            }
             _ => SampledSpectrum(wl.lambdas().map(|l| self.value(l))),
         }
     }

@@ -3,7 +3,7 @@
 //! | parameter | vismap | adaptive | quasi | adaptive+quasi | meaning |
 //! |---|---|---|---|---|---|
 //! | `iterations` | x | x | x | x | iterations (default: the scene's spp) |
-//! | `photons_per_iteration` | x | x | x | x | photons per iteration (default: one per pixel) |
+//! | `photons_per_iteration` | x | x | x | x | photons per iteration (default: two per pixel) |
 //! | `gather_depth` | x | | x | | fixed gather depth (0: the first non-specular vertex) |
 //! | `max_gather_depth` | | x | | x | deepest depth the adaptive choice considers (default 4) |
 //! | `adaptive_paper` | | x | | x | the paper's own, biased depth choice |
@@ -29,7 +29,7 @@ pub static PHOTONS: ParamSpec = ParamSpec {
     key: "photons_per_iteration",
     flag: "photons-per-iteration",
     kind: ParamKind::Int { min: 1, max: 1 << 32 },
-    default: "one per pixel",
+    default: "two per pixel",
     doc: "photons traced per iteration",
 };
 /// `gather_depth`.

@@ -66,7 +66,7 @@ impl<'s> Bidirectional<'s> {
             scene,
             camera,
             rule: GatherRule { depth: 0, cone_cos, max_specular: settings.max_specular },
-            n_photons: settings.photons_per_iteration.unwrap_or(pixels as u64).max(1),
+            n_photons: settings.photons(pixels as u64),
             settings,
             seed,
             shard: (shard.0, shard.1.max(1)),

@@ -18,13 +18,21 @@ pub enum GatherDepth {
     },
 }
 
+/// Photons per iteration and pixel unless `photons_per_iteration` says otherwise. Chosen from
+/// the time to relMSE 0.01 of `auto` at 1, 2, 4, 8 and 16 photons per pixel (BENCHMARKS.md,
+/// issue 15): the best count is 4 on the glass plate (photons are cheap: most leave the scene
+/// after one or two hits) and 1 in the closed glossy room (every photon bounces until Russian
+/// roulette ends it); 2 is within 30% of the best on both, where 1 took twice the best time on
+/// the glass plate.
+pub const DEFAULT_PHOTONS_PER_PIXEL: u64 = 2;
+
 /// Settings of the bidirectional methods: `vismap`, `adaptive`, `quasi`, `adaptive+quasi`
 /// (CLI: `--iterations --photons-per-iteration --gather-depth --radius --alpha --cone`).
 #[derive(Clone, Copy, Debug)]
 pub struct VismapSettings {
     /// Number of iterations (each: one camera path per pixel and one photon pass).
     pub iterations: u32,
-    /// Photons per iteration (None: one per pixel).
+    /// Photons per iteration (None: [`DEFAULT_PHOTONS_PER_PIXEL`] per pixel).
     pub photons_per_iteration: Option<u64>,
     /// How the gather depth is chosen.
     pub depth: GatherDepth,
@@ -63,6 +71,11 @@ impl Default for VismapSettings {
 pub const MAX_ADAPTIVE_DEPTH: u32 = 7;
 
 impl VismapSettings {
+    /// Photons per iteration for an image of `pixels` pixels (at least 1).
+    pub fn photons(&self, pixels: u64) -> u64 {
+        self.photons_per_iteration.unwrap_or(pixels.saturating_mul(DEFAULT_PHOTONS_PER_PIXEL)).max(1)
+    }
+
     /// Header entries (`photons_per_iteration` needs the image's pixel count for its default).
     pub fn header(&self, pixels: u64) -> Vec<(String, String)> {
         let depth = match self.depth {
@@ -72,7 +85,7 @@ impl VismapSettings {
             }
         };
         vec![
-            ("photons_per_iteration".into(), self.photons_per_iteration.unwrap_or(pixels).to_string()),
+            ("photons_per_iteration".into(), self.photons(pixels).to_string()),
             ("gather_depth".into(), depth),
             ("cone_deg".into(), self.cone_deg.map_or("none".into(), |c| c.to_string())),
             (
