@@ -95,7 +95,7 @@ fn lightguide_under_every_method() {
 /// the shipped scenes it renders with a bidirectional method, at 256 iterations.
 #[test]
 fn auto_at_default_settings_converges_on_the_shipped_scenes() {
-    for scene in ["glass-plate/glass-plate.toml", "lightguide/lightguide.toml"] {
+    for scene in ["glass-plate/glass-plate.toml", "glossy-room/glossy-room.toml", "lightguide/lightguide.toml"] {
         let path = shipped(scene);
         let reference = render_file(&path, &pt_ov(32, 24, 8192, 1));
         let ov = quasar::render::job::JobOverrides {

@@ -168,6 +168,7 @@ def main():
             for b in a.budgets:
                 spp = max(1, int(rate * b))
                 y, t = mitsuba_render(scene, spp, 7)
+                write_exr(os.path.join(d, f"mitsuba_{int(b)}s.exr"), y.astype(np.float32), np.zeros_like(y, np.float32))
                 results.setdefault(f"Mitsuba path ({a.variant})", []).append((b, t, spp, rel_mse(y, ref) - floor))
         for m in a.methods:
             for b in a.budgets:
@@ -188,7 +189,7 @@ def print_scene(a, row):
     print(head + " | samples/s | time to 0.01 | time to 0.003 | vs Mitsuba at 0.01 |")
     print("|---" * (len(a.budgets) + 5) + "|")
     for k, runs in results.items():
-        cells = " | ".join(f"{e:.4f} ({n})" for (_, _, n, e) in runs)
+        cells = " | ".join(f"{e:.3g} ({n})" for (_, _, n, e) in runs)
         b, t, n, e = runs[-1]
         try:
             sps = float(n) * pixels / t

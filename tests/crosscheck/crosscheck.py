@@ -33,6 +33,7 @@ CIE_Y_CORRECTION = 106.7502594 / 106.857
 SCENES = [
     "scenes/cornell-box/cornell-box.toml",
     "scenes/glass-plate/glass-plate.toml",
+    "scenes/glossy-room/glossy-room.toml",
     "scenes/lightguide/lightguide.toml",
     "scenes/material-library/material-library.toml",
     "scenes/gltf-showcase/showcase.toml",
