@@ -78,27 +78,46 @@ impl BlockBatches {
         Self { width, height, levels, batches: 0 }
     }
 
-    /// Adds one batch: `y[pixel][quantity]`, one sample per pixel, row-major.
+    /// Adds one batch: `y[pixel][quantity]`, one sample per pixel, row-major. The finest
+    /// level's block sums come from the pixels; each coarser level's (blocks of twice the side)
+    /// from the 2 x 2 blocks of the level before it.
     pub fn add(&mut self, y: &[[f64; N_QUANTITIES]]) {
         let w = self.width;
-        for level in &mut self.levels {
-            let mut block_sum = vec![[0.0f64; N_QUANTITIES]; level.cols * level.rows];
-            let mut count = vec![0u32; level.cols * level.rows];
-            for (i, v) in y.iter().enumerate() {
-                let b = (i / w / level.size) * level.cols + (i % w) / level.size;
-                count[b] += 1;
-                for q in 0..N_QUANTITIES {
-                    block_sum[b][q] += v[q];
+        let mut sums: Vec<([f64; N_QUANTITIES], u32)> = Vec::new();
+        let mut finer_cols = 0;
+        for (li, level) in self.levels.iter_mut().enumerate() {
+            let mut block = vec![([0.0f64; N_QUANTITIES], 0u32); level.cols * level.rows];
+            if li == 0 {
+                let col_of: Vec<usize> = (0..w).map(|x| x / level.size).collect();
+                for (row, pixels) in y.chunks(w.max(1)).enumerate() {
+                    let base = (row / level.size) * level.cols;
+                    for (v, &c) in pixels.iter().zip(&col_of) {
+                        let b = &mut block[base + c];
+                        b.1 += 1;
+                        for q in 0..N_QUANTITIES {
+                            b.0[q] += v[q];
+                        }
+                    }
+                }
+            } else {
+                for (i, s) in sums.iter().enumerate() {
+                    let b = &mut block[(i / finer_cols / 2) * level.cols + (i % finer_cols) / 2];
+                    b.1 += s.1;
+                    for q in 0..N_QUANTITIES {
+                        b.0[q] += s.0[q];
+                    }
                 }
             }
-            for (b, s) in block_sum.iter().enumerate() {
-                let n = count[b].max(1) as f64;
+            for (b, (s, n)) in block.iter().enumerate() {
+                let n = (*n).max(1) as f64;
                 for (q, v) in s.iter().enumerate() {
                     let m = v / n;
                     level.sum[b][q] += m;
                     level.sum_sq[b][q] += m * m;
                 }
             }
+            sums = block;
+            finer_cols = level.cols;
         }
         self.batches += 1;
     }
@@ -159,6 +178,37 @@ impl BlockBatches {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn coarse_levels_from_fine_blocks_equal_pixel_sums() {
+        // an odd-sized image: partial edge blocks at every level
+        let (w, h) = (37, 23);
+        let mut b = BlockBatches::new(w, h);
+        let mut seed = 7u64;
+        let mut next = || {
+            seed = crate::core::sampling::mix64(seed);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let y: Vec<[f64; N_QUANTITIES]> = (0..w * h).map(|_| std::array::from_fn(|_| next())).collect();
+        b.add(&y);
+        for level in &b.levels {
+            for (blk, got) in level.sum.iter().enumerate() {
+                let (br, bc) = (blk / level.cols, blk % level.cols);
+                let mut sum = [0.0f64; N_QUANTITIES];
+                let mut n = 0;
+                for (i, v) in y.iter().enumerate() {
+                    if (i / w) / level.size == br && (i % w) / level.size == bc {
+                        n += 1;
+                        (0..N_QUANTITIES).for_each(|q| sum[q] += v[q]);
+                    }
+                }
+                for q in 0..N_QUANTITIES {
+                    let want = sum[q] / n as f64;
+                    assert!((got[q] - want).abs() <= 1e-12 * want.abs(), "size {} block {blk}", level.size);
+                }
+            }
+        }
+    }
 
     #[test]
     fn levels_cover_the_image() {
