@@ -94,8 +94,8 @@ impl BlockBatches {
                     for (v, &c) in pixels.iter().zip(&col_of) {
                         let b = &mut block[base + c];
                         b.1 += 1;
-                        for q in 0..N_QUANTITIES {
-                            b.0[q] += v[q];
+                        for (acc, x) in b.0.iter_mut().zip(v) {
+                            *acc += x;
                         }
                     }
                 }
@@ -103,8 +103,8 @@ impl BlockBatches {
                 for (i, s) in sums.iter().enumerate() {
                     let b = &mut block[(i / finer_cols / 2) * level.cols + (i % finer_cols) / 2];
                     b.1 += s.1;
-                    for q in 0..N_QUANTITIES {
-                        b.0[q] += s.0[q];
+                    for (acc, x) in b.0.iter_mut().zip(&s.0) {
+                        *acc += x;
                     }
                 }
             }
