@@ -5,6 +5,14 @@ mod cli;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
+    // A closed pipe (`quasar info scene.toml | head -1`) ends the process quietly, as it does
+    // other command-line tools, instead of making the next print panic: Rust ignores SIGPIPE
+    // by default, so restore the default action.
+    #[cfg(unix)]
+    // SAFETY: called before any other thread exists; SIG_DFL is a valid action for SIGPIPE.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     match cli::run() {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

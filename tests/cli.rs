@@ -300,3 +300,44 @@ fn gltf_paths_outside_the_folder_need_the_flag_and_warnings_are_printed() {
     let o = quasar().args(["info", "--units", "furlong"]).arg(&scene).output().unwrap();
     assert!(!o.status.success() && String::from_utf8_lossy(&o.stderr).contains("expected m, cm, mm"));
 }
+
+/// Out-of-range numbers on the command line are refused before anything is rendered, with the
+/// accepted range (issue 18): `--spp 0` rendered one sample, `--exposure nan` a black preview,
+/// `--threads 100000` aborted on the stack guard page.
+#[test]
+fn bad_numbers_on_the_command_line_are_refused() {
+    let s = write_scene(GOOD, &[]);
+    let out = s.dir.path().join("out.exr");
+    for (args, needle) in [
+        (&["--spp", "0"][..], "--spp"),
+        (&["--exposure", "nan"][..], "finite"),
+        (&["--time", "0"][..], "positive"),
+        (&["--target-error", "0"][..], "positive"),
+        (&["--threads", "100000"][..], "per core"),
+    ] {
+        let o = quasar().args(["render", "--quiet"]).arg(&s.path).args(args).arg("-o").arg(&out).output().unwrap();
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.contains(needle), "{args:?}: {stderr}");
+        assert!(!out.exists(), "{args:?} wrote an image");
+    }
+    // 0 threads means all cores
+    let o = quasar().args(["render", "--quiet", "--threads", "0"]).arg(&s.path).arg("-o").arg(&out).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+/// A reader that goes away (`quasar info scene.toml | head -1`) ends `quasar` by SIGPIPE, as it
+/// does `cat`, not by a panic (exit 101) (issue 18).
+#[cfg(unix)]
+#[test]
+fn a_closed_pipe_is_not_a_panic() {
+    use std::os::unix::process::ExitStatusExt;
+    use std::process::Stdio;
+    let s = write_scene(GOOD, &[]);
+    let mut child = quasar().arg("info").arg(&s.path).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    drop(child.stdout.take()); // the only reader closes before anything is written
+    let o = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(o.status.signal(), Some(libc::SIGPIPE), "{:?} {stderr}", o.status);
+}

@@ -10,7 +10,7 @@ use quasar::integrator::params::{MethodParams, ParamKind};
 use quasar::render::job::{JobOverrides, render_desc, write_outputs_with_exposure};
 use quasar_importers::ImportOptions;
 
-use super::parse::{parse_masking, parse_shard, parse_units, same_file};
+use super::parse::{parse_finite, parse_masking, parse_positive, parse_shard, parse_threads, parse_units, same_file};
 
 /// The arguments of `quasar render`.
 #[derive(clap::Args)]
@@ -30,15 +30,15 @@ pub struct RenderArgs {
     /// Integration method (default: the scene's, else auto).
     #[arg(long, long_help = method_help())]
     pub method: Option<String>,
-    /// Samples per pixel.
-    #[arg(long, conflicts_with = "time")]
+    /// Samples per pixel (at least 1).
+    #[arg(long, conflicts_with = "time", value_parser = clap::value_parser!(u32).range(1..))]
     pub spp: Option<u32>,
     /// Render for this many seconds instead of a fixed sample count.
-    #[arg(long)]
+    #[arg(long, value_parser = parse_positive)]
     pub time: Option<f64>,
     /// Stop when the estimated RMS relative error of the image (sqrt of the mean over pixels
     /// of stderr^2 / (Y^2 + 1e-3)) is at most this, or at --time, whichever comes first.
-    #[arg(long)]
+    #[arg(long, value_parser = parse_positive)]
     pub target_error: Option<f64>,
     /// Image width in pixels.
     #[arg(long)]
@@ -46,8 +46,8 @@ pub struct RenderArgs {
     /// Image height in pixels.
     #[arg(long)]
     pub height: Option<u32>,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
+    /// Worker threads (default, and 0: all cores; at most 4 per core).
+    #[arg(long, value_parser = parse_threads)]
     pub threads: Option<usize>,
     /// Seed of the random streams.
     #[arg(long)]
@@ -70,7 +70,7 @@ pub struct RenderArgs {
     #[arg(long, value_parser = parse_masking)]
     pub masking: Option<quasar_materials::Masking>,
     /// Exposure of the PNG preview in stops (the preview is scaled by 2^EV before clipping).
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = parse_finite)]
     pub exposure: f32,
     /// Also write a tone-mapped PNG preview.
     #[arg(long)]
