@@ -131,8 +131,9 @@ fn missing_scene_file_is_a_clear_error() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("nope.toml"));
 }
 
-/// SIGINT during a render stops it and writes a valid EXR of what was done, marked partial;
-/// the same for a bidirectional method (after the current iteration).
+/// SIGINT during a render stops it and writes a valid EXR of what was done, marked partial,
+/// with exit code 3 (not 0: scripts retry); the same for a bidirectional method (after the
+/// current iteration).
 #[test]
 fn interrupted_render_writes_a_valid_partial_exr() {
     let s = write_scene(GOOD, &[]);
@@ -151,7 +152,7 @@ fn interrupted_render_writes_a_valid_partial_exr() {
         let rc = unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGINT) };
         assert_eq!(rc, 0);
         let status = child.wait().unwrap();
-        assert!(status.success(), "{method}: exit {status:?}");
+        assert_eq!(status.code(), Some(3), "{method}: exit {status:?}");
         let img = quasar::output::read_exr(&out).unwrap();
         assert_eq!(img.meta("partial"), Some("true"), "{method}");
         let spp: u32 = img.meta("spp").unwrap().parse().unwrap();
@@ -340,4 +341,41 @@ fn a_closed_pipe_is_not_a_panic() {
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert_eq!(o.status.signal(), Some(libc::SIGPIPE), "{:?} {stderr}", o.status);
+}
+
+/// An output into a directory that does not exist is refused before the render, naming the
+/// directory (it failed after the render, naming an internal temporary file), for the EXR and
+/// for the preview (which failed after the EXR had been written).
+#[test]
+fn missing_output_directories_are_refused_before_rendering() {
+    let s = write_scene(GOOD, &[]);
+    let missing = s.dir.path().join("no-such-dir");
+    let exr = s.dir.path().join("out.exr");
+    for (out, preview) in [(missing.join("a.exr"), None), (exr.clone(), Some(missing.join("a.png")))] {
+        let mut cmd = quasar();
+        cmd.args(["render", "--quiet"]).arg(&s.path).arg("-o").arg(&out);
+        if let Some(p) = &preview {
+            cmd.arg("--preview").arg(p);
+        }
+        let o = cmd.output().unwrap();
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{stderr}");
+        assert!(stderr.contains("no-such-dir") && stderr.contains("does not exist"), "{stderr}");
+        assert!(!out.exists() && !exr.exists(), "nothing may be written");
+    }
+    // --preview onto the scene names the preview
+    let o = quasar()
+        .args(["render", "--quiet"])
+        .arg(&s.path)
+        .arg("-o")
+        .arg(&exr)
+        .arg("--preview")
+        .arg(&s.path)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && stderr.contains(&format!("{}: the output would overwrite", s.path.display())),
+        "{stderr}"
+    );
 }

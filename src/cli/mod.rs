@@ -6,6 +6,7 @@ mod parse;
 mod render;
 
 use std::path::PathBuf;
+use std::process::ExitCode;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -178,10 +179,22 @@ fn load(scene: &std::path::Path, opts: &ImportOptions) -> Result<quasar_importer
     Ok(desc)
 }
 
-/// Parses the command line and runs it.
-pub fn run() -> Result<()> {
+/// Exit code of a render that was interrupted (Ctrl-C, SIGTERM) and wrote the partial image:
+/// scripts and job schedulers can tell it from a finished render (0) and a failure (1).
+pub const EXIT_PARTIAL: u8 = 3;
+
+/// Parses the command line and runs it; the exit code of a successful run.
+pub fn run() -> Result<ExitCode> {
     match Cli::parse().command {
         Command::Render(args) => render::render(args),
+        other => run_tool(other).map(|()| ExitCode::SUCCESS),
+    }
+}
+
+/// Runs every command but `render`.
+fn run_tool(command: Command) -> Result<()> {
+    match command {
+        Command::Render(_) => unreachable!("run() handles render"),
         Command::Compare { image, reference, layer, diff, z_test } => {
             use quasar::tools::{compare, ztest};
             if z_test && layer.as_deref().is_some_and(|l| l != "beauty") {

@@ -2,6 +2,7 @@
 //! table) and the run.
 
 use std::path::PathBuf;
+use std::process::ExitCode;
 
 use anyhow::Result;
 use clap::{Arg, ArgAction, ArgMatches, Args, Command, FromArgMatches};
@@ -144,8 +145,9 @@ pub fn method_help() -> String {
     s
 }
 
-/// Runs `quasar render`.
-pub fn render(args: RenderArgs) -> Result<()> {
+/// Runs `quasar render`: exit code 0, or [`super::EXIT_PARTIAL`] when it was interrupted and
+/// wrote the partial image.
+pub fn render(args: RenderArgs) -> Result<ExitCode> {
     let RenderArgs {
         scene,
         allow_external_paths,
@@ -185,30 +187,39 @@ pub fn render(args: RenderArgs) -> Result<()> {
         resume,
         masking,
     };
+    let exr = output.unwrap_or_else(|| {
+        PathBuf::from(scene.file_stem().map_or("out".into(), |s| s.to_string_lossy().into_owned()) + ".exr")
+    });
+    // every output is checked before the render, so that none fails after it
+    for path in std::iter::once(&exr).chain(preview.as_ref()) {
+        if same_file(&scene, path) {
+            anyhow::bail!("{}: the output would overwrite the scene file", path.display());
+        }
+        let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));
+        if !dir.is_dir() {
+            anyhow::bail!("{}: the directory {} does not exist", path.display(), dir.display());
+        }
+    }
     let out = render_desc(&desc, &ov, !quiet)?;
     for w in &out.result.warnings {
         eprintln!("warning: {w}");
     }
-    let exr = output.unwrap_or_else(|| {
-        PathBuf::from(scene.file_stem().map_or("out".into(), |s| s.to_string_lossy().into_owned()) + ".exr")
-    });
-    if same_file(&scene, &exr) || preview.as_ref().is_some_and(|p| same_file(&scene, p)) {
-        anyhow::bail!("{}: the output would overwrite the scene file", exr.display());
-    }
     write_outputs_with_exposure(&out, &exr, preview.as_ref(), exposure)?;
     if out.result.interrupted {
         eprintln!("interrupted: wrote the partial image {} ({} spp)", exr.display(), out.result.spp);
+        return Ok(ExitCode::from(super::EXIT_PARTIAL));
     }
     if !quiet {
+        let t = out.result.threads;
         eprintln!(
-            "wrote {} ({}x{}, {} spp, {:.2} s, {} threads)",
+            "wrote {} ({}x{}, {} spp, {:.2} s, {t} thread{})",
             exr.display(),
             out.image.width,
             out.image.height,
             out.result.spp,
             out.result.seconds,
-            out.result.threads
+            if t == 1 { "" } else { "s" }
         );
     }
-    Ok(())
+    Ok(ExitCode::SUCCESS)
 }
