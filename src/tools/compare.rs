@@ -46,23 +46,27 @@ pub fn compare(img: &ExrImage, reference: &ExrImage, only: Option<&str>) -> Resu
             img.width, img.height, reference.width, reference.height
         ));
     }
-    let mut layers: Vec<&str> = Vec::new();
+    let mut shared: Vec<&str> = Vec::new();
     for c in &img.channels {
         let l = layer_of(&c.name);
         if matches!(l, "spp" | "depth" | "stderr" | "trace_depth")
             || reference.channel(&c.name).is_none()
-            || layers.contains(&l)
+            || shared.contains(&l)
         {
             continue;
         }
-        if only.is_none_or(|o| o == l || (o == "beauty" && l.is_empty())) {
-            layers.push(l);
-        }
+        shared.push(l);
     }
+    let name = |l: &str| if l.is_empty() { "beauty".to_string() } else { l.to_string() };
+    let layers: Vec<&str> =
+        shared.iter().copied().filter(|&l| only.is_none_or(|o| o == l || (o == "beauty" && l.is_empty()))).collect();
     if layers.is_empty() {
         return Err(match only {
-            Some(o) => format!("layer '{o}' is not in both images"),
-            None => "the images share no layer".into(),
+            Some(o) if !shared.is_empty() => format!(
+                "layer '{o}' is not in both images; the layers they share: {}",
+                shared.iter().map(|&l| name(l)).collect::<Vec<_>>().join(", ")
+            ),
+            _ => "the images share no layer".into(),
         });
     }
     let mut out = Vec::new();
@@ -88,7 +92,7 @@ pub fn compare(img: &ExrImage, reference: &ExrImage, only: Option<&str>) -> Resu
         }
         let nf = n.max(1) as f64;
         out.push(LayerError {
-            layer: if l.is_empty() { "beauty".into() } else { l.to_string() },
+            layer: name(l),
             rmse: (se / nf).sqrt(),
             rel_mse: rel / nf,
             mean_rel_error: mre / nf,
@@ -99,6 +103,18 @@ pub fn compare(img: &ExrImage, reference: &ExrImage, only: Option<&str>) -> Resu
     Ok(out)
 }
 
+/// A number in scientific notation with 5 significant digits and a signed two-digit exponent,
+/// as C's `%.4e` writes it ("3.4516e-01"; Rust's `{:e}` writes "3.4516e-1").
+pub fn scientific(v: f64) -> String {
+    if !v.is_finite() {
+        return v.to_string();
+    }
+    let s = format!("{v:.4e}");
+    let (mantissa, exp) = s.split_once('e').unwrap_or((&s, "0"));
+    let exp: i32 = exp.parse().unwrap_or(0);
+    format!("{mantissa}e{}{:02}", if exp < 0 { '-' } else { '+' }, exp.abs())
+}
+
 /// `quasar compare`'s table of [`compare`]'s metrics.
 pub fn table(errors: &[LayerError]) -> String {
     let mut s = format!(
@@ -106,10 +122,9 @@ pub fn table(errors: &[LayerError]) -> String {
         "layer", "rmse", "relmse", "mean_rel", "max", "mean", "ref_mean"
     );
     for e in errors {
-        s += &format!(
-            "{:<12} {:>12.5e} {:>12.5e} {:>12.5e} {:>12.5e} {:>12.5e} {:>12.5e}\n",
-            e.layer, e.rmse, e.rel_mse, e.mean_rel_error, e.max_error, e.means.0, e.means.1
-        );
+        let v = [e.rmse, e.rel_mse, e.mean_rel_error, e.max_error, e.means.0, e.means.1].map(scientific);
+        s +=
+            &format!("{:<12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12}\n", e.layer, v[0], v[1], v[2], v[3], v[4], v[5]);
     }
     s
 }
@@ -140,7 +155,17 @@ pub fn write_difference_png(img: &ExrImage, reference: &ExrImage, path: &Path) -
 #[cfg(test)]
 mod tests {
     use super::*;
+
     use crate::film::Channel;
+
+    #[test]
+    fn scientific_notation_has_a_signed_two_digit_exponent() {
+        assert_eq!(scientific(0.345158), "3.4516e-01");
+        assert_eq!(scientific(3.45158), "3.4516e+00");
+        assert_eq!(scientific(12345.0), "1.2345e+04");
+        assert_eq!(scientific(0.0), "0.0000e+00");
+        assert_eq!(scientific(-2.5e-120), "-2.5000e-120");
+    }
 
     fn image(values: &[f32]) -> ExrImage {
         let ch = |n: &str| Channel { name: n.into(), values: values.to_vec() };
@@ -165,7 +190,8 @@ mod tests {
         assert_eq!(d.max_error, 2.0);
         assert_eq!(d.means, (1.5, 1.75));
         assert_eq!(compare(&r, &r, Some("direct")).unwrap()[0].rel_mse, 0.0);
-        assert!(compare(&r, &r, Some("caustic")).is_err());
+        let err = compare(&r, &r, Some("caustic")).unwrap_err();
+        assert!(err.contains("the layers they share: beauty, direct"), "{err}");
         assert!(compare(&image(&[1.0]), &r, None).is_err());
     }
 }
