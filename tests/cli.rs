@@ -379,3 +379,52 @@ fn missing_output_directories_are_refused_before_rendering() {
         "{stderr}"
     );
 }
+
+/// A `--target-error` that `--time` cuts short is reported on stderr and in the header
+/// (`target_error_reached`), and a reached one says so (issue 18).
+#[test]
+fn a_missed_target_error_is_reported() {
+    let s = write_scene(GOOD, &[]);
+    let out = s.dir.path().join("te.exr");
+    for (target, reached) in [("1e-9", "false"), ("0.9", "true")] {
+        let o = quasar()
+            .args(["render", "--quiet", "--target-error", target, "--time", "0.5"])
+            .arg(&s.path)
+            .arg("-o")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "{stderr}");
+        assert_eq!(stderr.contains("not reached"), reached == "false", "{stderr}");
+        let img = quasar::output::read_exr(&out).unwrap();
+        assert_eq!(img.meta("target_error_reached"), Some(reached), "{target}");
+    }
+}
+
+/// `--resume` with a smaller `--spp` than the checkpoint holds says so instead of silently
+/// writing the checkpoint's image (issue 18).
+#[test]
+fn resuming_with_fewer_samples_than_the_checkpoint_warns() {
+    let s = write_scene(GOOD, &[]);
+    let (ckpt, out) = (s.dir.path().join("c.ckpt"), s.dir.path().join("c.exr"));
+    let st = quasar()
+        .args(["render", "--quiet", "--spp", "8", "--checkpoint"])
+        .arg(&ckpt)
+        .arg(&s.path)
+        .arg("-o")
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(st.success());
+    let o = quasar()
+        .args(["render", "--quiet", "--spp", "4", "--resume"])
+        .arg(&ckpt)
+        .arg(&s.path)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success() && stderr.contains("already holds 8") && stderr.contains("more than the 4"), "{stderr}");
+}

@@ -111,6 +111,11 @@ fn run_in_pool(
     let mut consistent = true;
     let mut last_checkpoint = Instant::now();
     let mut warnings = Vec::new();
+    if done > total {
+        warnings.push(format!(
+            "the checkpoint already holds {done} units (samples or iterations per pixel) of this render share, more than the {total} asked for: nothing was rendered and the image has all {done} (give a larger count or --time to extend it)"
+        ));
+    }
     let mut save = |film: &Film, done: u32, method: &dyn RenderMethod| {
         if let Some((path, fingerprint)) = &opts.checkpoint {
             let state = RenderState { film: film.clone(), done, method_state: method.save_state() };

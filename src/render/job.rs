@@ -159,12 +159,27 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         resume,
         checkpoint: ov.checkpoint.clone().map(|p| (p, fingerprint)),
     };
-    let result = driver::run(method.as_mut(), &scene, &camera, &opts).map_err(anyhow::Error::msg)?;
+    let mut result = driver::run(method.as_mut(), &scene, &camera, &opts).map_err(anyhow::Error::msg)?;
     drop(method);
+    let unit_name = if entry.params.iter().any(|p| p.key == "iterations") { "iterations" } else { "spp" };
+    let estimated = result.film.estimated_rel_error();
+    let target_reached = target_error.map(|e| estimated <= e);
+    if let (Some(e), Some(false)) = (target_error, target_reached) {
+        let stop = if result.interrupted {
+            "the render was interrupted"
+        } else if time_s.is_some() {
+            "the time limit came first"
+        } else {
+            "the sample budget came first"
+        };
+        result.warnings.push(format!(
+            "target error {e} not reached: the estimated error is {estimated:.6} after {} {unit_name} ({stop})",
+            result.spp
+        ));
+    }
     let mut channels = result.film.channels();
     channels.push(Channel { name: "depth.Z".into(), values: result.depth.clone() });
     channels.extend(result.extra.iter().cloned());
-    let unit_name = if entry.params.iter().any(|p| p.key == "iterations") { "iterations" } else { "spp" };
     let mut header = vec![
         ("software".into(), concat!("quasar ", env!("CARGO_PKG_VERSION")).to_string()),
         ("scene".into(), desc.source.display().to_string()),
@@ -181,7 +196,8 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         ("shard".into(), format!("{}/{}", shard.0, shard.1)),
         ("rejected_samples".into(), result.film.rejected_samples().to_string()),
         ("target_error".into(), target_error.map_or("none".into(), |e| e.to_string())),
-        ("estimated_rel_error".into(), format!("{:.6}", result.film.estimated_rel_error())),
+        ("target_error_reached".into(), target_reached.map_or("none".into(), |r| r.to_string())),
+        ("estimated_rel_error".into(), format!("{estimated:.6}")),
         ("threads".into(), result.threads.to_string()),
         ("render_time_s".into(), format!("{:.3}", result.seconds)),
     ];
