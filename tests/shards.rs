@@ -79,6 +79,36 @@ fn merge_refuses_mismatched_renders() {
     assert!(quasar::tools::merge::merge(&[]).is_err());
 }
 
+/// `quasar merge` refuses inputs that do not hold independent samples of one scene (issue 18):
+/// another scene, the same file twice, two full renders with one seed, shards of one seed split
+/// differently; renders with different seeds, and a merged image with the remaining shard, merge.
+#[test]
+fn merge_refuses_repeated_samples_and_other_scenes() {
+    let merge = |imgs: &[&ExrImage]| quasar::tools::merge::merge(&imgs.iter().map(|&i| i.clone()).collect::<Vec<_>>());
+    let full = render_file(&scene(), &ov("pt", None)).image;
+    let other_scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell-box/cornell-box.toml");
+    let cornell = render_file(&other_scene, &ov("pt", None)).image;
+    assert!(merge(&[&full, &cornell]).unwrap_err().contains("scene_fingerprint"));
+    assert!(merge(&[&full, &full]).unwrap_err().contains("the same samples twice"));
+    let full_again = render_file(&scene(), &ov("pt", None)).image;
+    assert!(merge(&[&full, &full_again]).unwrap_err().contains("the same samples twice"));
+    let (a, b, c) = (
+        render_file(&scene(), &ov("pt", Some((0, 3)))).image,
+        render_file(&scene(), &ov("pt", Some((1, 3)))).image,
+        render_file(&scene(), &ov("pt", Some((1, 2)))).image,
+    );
+    assert!(merge(&[&a, &c]).unwrap_err().contains("split it the same way"));
+    assert!(merge(&[&a, &full]).unwrap_err().contains("split it the same way"));
+    let other_seed = render_file(&scene(), &JobOverrides { seed: Some(99), ..ov("pt", None) }).image;
+    let two_seeds = merge(&[&full, &other_seed]).unwrap();
+    assert_eq!(two_seeds.meta("spp"), Some("16"));
+    let ab = merge(&[&a, &b]).unwrap();
+    assert_eq!(ab.meta("streams"), Some("17:0/3,17:1/3"));
+    assert!(merge(&[&ab, &b]).unwrap_err().contains("the same samples twice"));
+    let c2 = render_file(&scene(), &ov("pt", Some((2, 3)))).image;
+    assert_eq!(merge(&[&ab, &c2]).unwrap().meta("spp"), Some("8"));
+}
+
 /// A render stopped and resumed from its checkpoint equals the uninterrupted render bit for bit,
 /// for every method (the adaptive ones keep their depth histograms in the state); a checkpoint of
 /// other settings is refused.

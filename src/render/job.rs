@@ -159,6 +159,19 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         resume,
         checkpoint: ov.checkpoint.clone().map(|p| (p, fingerprint)),
     };
+    // the scene's content without the places it was read from (a render of the same scene from
+    // another directory has the same one), so that `quasar merge` can refuse unrelated renders
+    let scene_fingerprint = {
+        let materials: Vec<_> = desc.materials.iter().map(|m| (&m.material, &m.textures)).collect();
+        let meshes: Vec<_> = desc
+            .meshes
+            .iter()
+            .map(|m| (&m.positions, &m.normals, &m.uvs, &m.indices, m.material, &m.emission))
+            .collect();
+        let textures: Vec<_> =
+            desc.textures.iter().map(|t| (t.width, t.height, &t.texels, &t.wrap_u, &t.wrap_v)).collect();
+        crate::render::checkpoint::Fingerprint::of(&[&materials, &meshes, &textures, &desc.lights, &desc.camera])
+    };
     let mut result = driver::run(method.as_mut(), &scene, &camera, &opts).map_err(anyhow::Error::msg)?;
     drop(method);
     let unit_name = if entry.params.iter().any(|p| p.key == "iterations") { "iterations" } else { "spp" };
@@ -183,6 +196,7 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     let mut header = vec![
         ("software".into(), concat!("quasar ", env!("CARGO_PKG_VERSION")).to_string()),
         ("scene".into(), desc.source.display().to_string()),
+        ("scene_fingerprint".into(), format!("{scene_fingerprint:016x}")),
         ("method".into(), entry.name.to_string()),
         ("method_requested".into(), choice.name().to_string()),
         ("spp".into(), result.spp.to_string()),

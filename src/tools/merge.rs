@@ -7,8 +7,62 @@ use crate::film::Channel;
 use crate::output::ExrImage;
 
 /// Header keys that must agree between the merged images (they change what a sample means).
-const MUST_AGREE: [&str; 8] =
-    ["method", "width", "height", "max_depth", "photons_per_iteration", "gather_depth", "cone_deg", "alpha"];
+const MUST_AGREE: [&str; 10] = [
+    "scene_fingerprint",
+    "method",
+    "width",
+    "height",
+    "masking",
+    "max_depth",
+    "photons_per_iteration",
+    "gather_depth",
+    "cone_deg",
+    "alpha",
+];
+
+/// The random streams an image's samples came from: (seed, K, N) for shard K of N (a full
+/// render is shard 0 of 1), from the `streams` list of a merged image or its `seed` and `shard`;
+/// None for an image without them.
+fn streams(img: &ExrImage) -> Option<Vec<(String, u32, u32)>> {
+    let parse = |seed: &str, shard: &str| {
+        let (k, n) = shard.split_once('/')?;
+        Some((seed.to_string(), k.parse().ok()?, n.parse().ok()?))
+    };
+    match img.meta("streams") {
+        Some(list) => list.split(',').map(|s| s.split_once(':').and_then(|(seed, sh)| parse(seed, sh))).collect(),
+        None => Some(vec![parse(img.meta("seed")?, img.meta("shard")?)?]),
+    }
+}
+
+/// Refuses inputs whose samples are not independent: two renders with one seed must be
+/// different shards of one split of it (same N, different K); anything else repeats samples
+/// (the same file twice, two full renders with the same seed) or overlaps them.
+fn check_streams(images: &[ExrImage]) -> Result<Vec<(String, u32, u32)>, String> {
+    let mut seen: Vec<(usize, (String, u32, u32))> = Vec::new();
+    for (i, img) in images.iter().enumerate() {
+        for s in streams(img).unwrap_or_default() {
+            for (j, t) in &seen {
+                if t.0 != s.0 {
+                    continue;
+                }
+                if t.2 != s.2 {
+                    return Err(format!(
+                        "image {i} is shard {}/{} of seed {}, image {j} shard {}/{} of it: shards of one seed must split it the same way",
+                        s.1, s.2, s.0, t.1, t.2
+                    ));
+                }
+                if t.1 == s.1 {
+                    return Err(format!(
+                        "images {j} and {i} both hold shard {}/{} of seed {}: the same samples twice (the same file, or renders with the same seed and no --shard)",
+                        s.1, s.2, s.0
+                    ));
+                }
+            }
+            seen.push((i, s));
+        }
+    }
+    Ok(seen.into_iter().map(|(_, s)| s).collect())
+}
 
 /// Header keys summed over the inputs.
 const SUMMED: [&str; 4] = ["spp", "iterations", "photons", "render_time_s"];
@@ -39,6 +93,7 @@ pub fn merge(images: &[ExrImage]) -> Result<ExrImage, String> {
             }
         }
     }
+    let all_streams = check_streams(images)?;
     let counts: Vec<&[f32]> = images.iter().map(|img| img.channel("spp.Y").unwrap_or_default()).collect();
     let total: Vec<f64> = (0..n_px).map(|p| counts.iter().map(|c| c[p] as f64).sum()).collect();
     let weighted = |name: &str| -> Vec<f64> {
@@ -98,6 +153,9 @@ pub fn merge(images: &[ExrImage]) -> Result<ExrImage, String> {
             *v = "merged".into();
         }
     }
+    metadata.retain(|(k, _)| k != "streams");
+    let list: Vec<String> = all_streams.iter().map(|(seed, k, n)| format!("{seed}:{k}/{n}")).collect();
+    metadata.push(("streams".into(), list.join(",")));
     metadata.push(("merged_from".into(), images.len().to_string()));
     Ok(ExrImage { width: first.width, height: first.height, channels, metadata })
 }
