@@ -428,3 +428,23 @@ fn resuming_with_fewer_samples_than_the_checkpoint_warns() {
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success() && stderr.contains("already holds 8") && stderr.contains("more than the 4"), "{stderr}");
 }
+
+/// A scene without lights, or whose image is all black, renders with a warning naming the
+/// scene instead of a silent black image (issue 18).
+#[test]
+fn black_renders_are_reported() {
+    let no_light = GOOD.split("[[light]]").next().unwrap().to_string();
+    let light_inside = no_light.clone() + "[[light]]\ntype = \"point\"\nposition = [0, 0, 0]\nscale = 1\n";
+    for (text, needle) in [(no_light, "has no light"), (light_inside, "the image is black")] {
+        let s = write_scene(&text, &[]);
+        let out = s.dir.path().join("black.exr");
+        let o = quasar().args(["render", "--quiet"]).arg(&s.path).arg("-o").arg(&out).output().unwrap();
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success() && stderr.contains(needle), "{stderr}");
+        assert!(stderr.contains(&s.path.display().to_string()), "{stderr}");
+    }
+    let s = write_scene(GOOD, &[]);
+    let o =
+        quasar().args(["render", "--quiet"]).arg(&s.path).arg("-o").arg(s.dir.path().join("lit.exr")).output().unwrap();
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("black"));
+}

@@ -174,6 +174,17 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     };
     let mut result = driver::run(method.as_mut(), &scene, &camera, &opts).map_err(anyhow::Error::msg)?;
     drop(method);
+    if scene.lights.is_empty() {
+        result.warnings.push(format!(
+            "{}: the scene has no light (no emissive surface, light or environment), so the image is black: add a [[light]] (e.g. type = \"environment\") or an emissive material",
+            desc.source.display()
+        ));
+    } else if result.film.pixels.iter().all(|p| p.sum_y(crate::film::Quantity::Beauty) == 0.0) {
+        result.warnings.push(format!(
+            "{}: the image is black (every pixel 0): the camera sees no lit surface and no light",
+            desc.source.display()
+        ));
+    }
     let unit_name = if entry.params.iter().any(|p| p.key == "iterations") { "iterations" } else { "spp" };
     let estimated = result.film.estimated_rel_error();
     let target_reached = target_error.map(|e| estimated <= e);
