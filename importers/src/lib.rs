@@ -15,6 +15,7 @@ pub mod importer;
 pub mod names;
 pub mod obj;
 mod obj_lint;
+mod obj_text;
 pub mod photometric;
 pub mod registry;
 pub mod scene_desc;

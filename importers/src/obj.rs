@@ -42,6 +42,7 @@ use crate::error::{ErrorPlace, ImportError, ImportErrorKind, did_you_mean};
 use crate::importer::{Formats, ImportOptions, Importer};
 use crate::names::unique_name;
 use crate::obj_lint::{self, MAX_OBJ_BYTES, MtlEntry};
+use crate::obj_text;
 use crate::scene_desc::{EmissionDesc, MaterialDesc, MeshDesc, SceneDesc, SourceLocation};
 use crate::small_text::read_small_text;
 
@@ -294,7 +295,8 @@ pub fn import_obj(path: &Path, opts: &ImportOptions, materials: ObjMaterials) ->
     let load_opts =
         tobj::LoadOptions { triangulate: true, single_index: true, ignore_points: true, ignore_lines: true };
     let header = format!("mtllib {SENTINEL}\n");
-    let mut reader = Cursor::new(header.into_bytes()).chain(open_skipping_bom(path)?);
+    let mut reader =
+        BufReader::new(Cursor::new(header.into_bytes()).chain(obj_text::CommentFree::new(open_skipping_bom(path)?)));
     let (models, _) = tobj::load_obj_buf(&mut reader, &load_opts, |p| {
         if p == Path::new(SENTINEL) {
             Ok((tobj_table.clone(), tobj_keys.iter().map(|(k, v)| (k.clone(), *v)).collect()))

@@ -10,6 +10,7 @@ use std::io::{BufRead, Read};
 use std::path::Path;
 
 use crate::error::{ErrorPlace, ImportError, ImportErrorKind};
+use crate::obj_text::{strip_comment, strip_eol};
 
 /// Largest OBJ file accepted (bytes).
 pub const MAX_OBJ_BYTES: u64 = 2 << 30;
@@ -70,17 +71,6 @@ fn finite(file: &Path, line: usize, what: &str, tok: &str) -> Result<f32, Import
         )),
         Err(_) => Err(syntax(file, line, format!("{what}: `{tok}` is not a number"))),
     }
-}
-
-/// Removes the line terminator the way `BufRead::lines` does ("\n" or "\r\n").
-fn strip_eol(mut b: &[u8]) -> &[u8] {
-    if let Some(r) = b.strip_suffix(b"\n") {
-        b = r;
-        if let Some(r) = b.strip_suffix(b"\r") {
-            b = r;
-        }
-    }
-    b
 }
 
 /// The material name `tobj` extracts from a `usemtl` line: the text after the first space, trimmed.
@@ -163,6 +153,7 @@ pub(crate) fn lint_obj(file: &Path, reader: &mut impl BufRead) -> Result<ObjSumm
         let Ok(line) = std::str::from_utf8(strip_eol(&buf)) else {
             return Err(syntax(file, lineno, "line is not valid UTF-8"));
         };
+        let line = strip_comment(line);
         let mut words = line.split_whitespace();
         let Some(kw) = words.next() else { continue };
         let args: Vec<&str> = words.collect();
@@ -302,7 +293,7 @@ pub(crate) fn lint_mtl(file: &Path, text: &str) -> Result<MtlLint, ImportError> 
     let mut out = MtlLint { normalized: String::with_capacity(text.len() + 64), entries: Vec::new() };
     for (i, raw) in text.split('\n').enumerate() {
         let lineno = i + 1;
-        let line = raw.strip_suffix('\r').unwrap_or(raw);
+        let line = strip_comment(raw.strip_suffix('\r').unwrap_or(raw));
         let trimmed = line.trim();
         let mut words = trimmed.split_whitespace();
         let kw = words.next().unwrap_or("");

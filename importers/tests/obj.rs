@@ -265,3 +265,28 @@ fn byte_order_marks_are_skipped() {
         Material::Diffuse { reflectance: Spectrum::rgb_reflectance([1.0, 0.0, 0.0]).unwrap(), two_sided: true }
     );
 }
+
+/// Trailing `#` comments, as in Morgan McGuire's CornellBox-Original.mtl (`Ka 0.63 0.065 0.05
+/// # Red`) and CAD exports (`v 1 2 3 # comment`), are accepted in OBJ and MTL statements; a `#`
+/// inside a word (a material name) is kept (issue 18).
+#[test]
+fn trailing_comments_are_accepted() {
+    let obj_text = "mtllib m.mtl # the library\n\
+                    v 0 0 0 # origin\nv 1 0 0\t# x\nv 0 1 0 #y\nvn 0 0 1 # up\n\
+                    usemtl red # the red one\nf 1//1 2//1 3//1 # a triangle\n\
+                    usemtl paint#2\nf 1 2 3\n";
+    let mtl_text = "newmtl red # wall\nKd 0.63 0.065 0.05 # Red\nKa 0 0 0 #\n\
+                    newmtl paint#2\nKd 0.5 0.5 0.5\n";
+    let s = ok(&[("c.obj", obj_text), ("m.mtl", mtl_text)]);
+    assert_eq!(s.meshes.len(), 2);
+    assert_eq!(s.meshes[0].positions, vec![Vec3::ZERO, Vec3::X, Vec3::Y]);
+    assert_eq!(s.meshes[0].normals.as_deref(), Some(&[Vec3::Z; 3][..]));
+    let names: Vec<&str> = s.materials.iter().map(|m| m.name.as_str()).collect();
+    assert_eq!(names, ["red", "paint#2"]);
+    let Material::Diffuse { reflectance: Spectrum::RgbReflectance(r), .. } = &s.materials[0].material else {
+        panic!("{:?}", s.materials[0].material)
+    };
+    assert_eq!(r.rgb, [0.63, 0.065, 0.05]);
+    // a comment is not a value: a vertex with two coordinates and a comment is still an error
+    assert!(err(&[("bad.obj", "v 1 2 # 3\n")]).contains("bad.obj:1"));
+}
