@@ -98,10 +98,16 @@ fn run_in_pool(
     };
     let total = opts.units.max(1);
     let pixels = w as u64 * h as u64;
-    let progress = progress_bar(opts.progress, pixels * total.saturating_sub(done) as u64);
+    let kind = Progress::of(opts, pixels * total.saturating_sub(done) as u64);
+    let progress = opts.progress.then(|| kind.bar());
+    let clock = Instant::now();
     let inc = |n: u64| {
         if let Some(b) = &progress {
-            b.inc(n);
+            match kind {
+                Progress::Samples(_) => b.inc(n),
+                Progress::Time(ms) => b.set_position((clock.elapsed().as_millis() as u64).min(ms)),
+                Progress::Open => b.tick(),
+            }
         }
     };
     let control = PassControl { progress: &inc, stop: &super::interrupt::requested };
@@ -135,6 +141,9 @@ fn run_in_pool(
         }
         done += n;
         rendered += n;
+        if let Some(b) = &progress {
+            b.set_message(progress_message(done, film.estimated_rel_error(), opts.target_error));
+        }
         if super::interrupt::requested() {
             interrupted = true;
             break;
@@ -179,16 +188,50 @@ fn run_in_pool(
 }
 
 /// A progress bar with ETA on stderr over `total` units of work (none unless `show`).
-fn progress_bar(show: bool, total: u64) -> Option<ProgressBar> {
-    if !show {
-        return None;
+/// What the progress bar measures.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Progress {
+    /// Pixel samples of a fixed budget (with an ETA).
+    Samples(u64),
+    /// Milliseconds of a `--time` budget.
+    Time(u64),
+    /// No bound known in advance (`--target-error` alone): a spinner with the error reached.
+    Open,
+}
+
+impl Progress {
+    /// The bar of a render with `samples` pixel samples to go under `opts`.
+    fn of(opts: &DriverOptions, samples: u64) -> Self {
+        match (opts.time_limit, opts.target_error) {
+            (Some(t), _) => Progress::Time((t * 1000.0).ceil() as u64),
+            (None, Some(_)) => Progress::Open,
+            (None, None) => Progress::Samples(samples),
+        }
     }
-    let bar = ProgressBar::new(total);
-    let style = ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {percent:>3}% ETA {eta}")
-        .unwrap_or_else(|_| ProgressStyle::default_bar());
-    bar.set_style(style);
-    bar.enable_steady_tick(Duration::from_millis(200));
-    Some(bar)
+
+    fn bar(self) -> ProgressBar {
+        let (bar, template) = match self {
+            Progress::Samples(n) => {
+                (ProgressBar::new(n), "{spinner} [{elapsed_precise}] {wide_bar} {percent:>3}% ETA {eta} {msg}")
+            }
+            Progress::Time(ms) => {
+                (ProgressBar::new(ms), "{spinner} [{elapsed_precise}] {wide_bar} {percent:>3}% of the time {msg}")
+            }
+            Progress::Open => (ProgressBar::new_spinner(), "{spinner} [{elapsed_precise}] {msg}"),
+        };
+        bar.set_style(ProgressStyle::with_template(template).unwrap_or_else(|_| ProgressStyle::default_bar()));
+        bar.enable_steady_tick(Duration::from_millis(200));
+        bar
+    }
+}
+
+/// The bar's message after a pass: units done and the image's estimated error (against the
+/// target when there is one).
+fn progress_message(done: u32, error: f64, target: Option<f64>) -> String {
+    match target {
+        Some(t) => format!("{done} done, error {error:.4} (target {t})"),
+        None => format!("{done} done, error {error:.4}"),
+    }
 }
 
 /// Distance to the first surface along each pixel-centre ray (infinity for misses).
@@ -202,4 +245,31 @@ pub fn depth_pass(scene: &Scene, camera: &Camera) -> Vec<f32> {
             scene.intersect(&ray).map_or(f32::INFINITY, |si| si.t)
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn opts(time_limit: Option<f64>, target_error: Option<f64>) -> DriverOptions {
+        DriverOptions {
+            units: 10,
+            time_limit,
+            target_error,
+            threads: None,
+            progress: false,
+            resume: None,
+            checkpoint: None,
+        }
+    }
+
+    #[test]
+    fn the_bar_measures_what_bounds_the_render() {
+        // --time: the share of the time (the sample cap of an open-ended render is no bound)
+        assert_eq!(Progress::of(&opts(Some(2.5), None), 1 << 40), Progress::Time(2500));
+        assert_eq!(Progress::of(&opts(Some(1.0), Some(0.01)), 1 << 40), Progress::Time(1000));
+        assert_eq!(Progress::of(&opts(None, Some(0.01)), 1 << 40), Progress::Open);
+        assert_eq!(Progress::of(&opts(None, None), 640), Progress::Samples(640));
+        assert_eq!(progress_message(12, 0.01234, Some(0.01)), "12 done, error 0.0123 (target 0.01)");
+    }
 }
