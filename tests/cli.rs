@@ -3,6 +3,7 @@
 
 mod common;
 
+use std::path::Path;
 use std::process::Command;
 
 use common::write_scene;
@@ -302,6 +303,16 @@ fn gltf_paths_outside_the_folder_need_the_flag_and_warnings_are_printed() {
     assert!(!o.status.success() && String::from_utf8_lossy(&o.stderr).contains("expected m, cm, mm"));
 }
 
+/// `quasar render --quiet SCENE -o OUT ARGS...`: its exit status and standard error.
+fn render_cli<S: AsRef<std::ffi::OsStr>>(
+    scene: &Path,
+    out: &Path,
+    args: impl IntoIterator<Item = S>,
+) -> (std::process::ExitStatus, String) {
+    let o = quasar().args(["render", "--quiet"]).arg(scene).arg("-o").arg(out).args(args).output().unwrap();
+    (o.status, String::from_utf8_lossy(&o.stderr).into_owned())
+}
+
 /// Out-of-range numbers on the command line are refused before anything is rendered, with the
 /// accepted range (issue 18): `--spp 0` rendered one sample, `--exposure nan` a black preview,
 /// `--threads 100000` aborted on the stack guard page.
@@ -316,15 +327,14 @@ fn bad_numbers_on_the_command_line_are_refused() {
         (&["--target-error", "0"][..], "positive"),
         (&["--threads", "100000"][..], "per core"),
     ] {
-        let o = quasar().args(["render", "--quiet"]).arg(&s.path).args(args).arg("-o").arg(&out).output().unwrap();
-        let stderr = String::from_utf8_lossy(&o.stderr);
-        assert_eq!(o.status.code(), Some(2), "{args:?}: {stderr}");
+        let (status, stderr) = render_cli(&s.path, &out, args);
+        assert_eq!(status.code(), Some(2), "{args:?}: {stderr}");
         assert!(stderr.contains(needle), "{args:?}: {stderr}");
         assert!(!out.exists(), "{args:?} wrote an image");
     }
     // 0 threads means all cores
-    let o = quasar().args(["render", "--quiet", "--threads", "0"]).arg(&s.path).arg("-o").arg(&out).output().unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (status, stderr) = render_cli(&s.path, &out, ["--threads", "0"]);
+    assert!(status.success(), "{stderr}");
 }
 
 /// A reader that goes away (`quasar info scene.toml | head -1`) ends `quasar` by SIGPIPE, as it
@@ -352,30 +362,16 @@ fn missing_output_directories_are_refused_before_rendering() {
     let missing = s.dir.path().join("no-such-dir");
     let exr = s.dir.path().join("out.exr");
     for (out, preview) in [(missing.join("a.exr"), None), (exr.clone(), Some(missing.join("a.png")))] {
-        let mut cmd = quasar();
-        cmd.args(["render", "--quiet"]).arg(&s.path).arg("-o").arg(&out);
-        if let Some(p) = &preview {
-            cmd.arg("--preview").arg(p);
-        }
-        let o = cmd.output().unwrap();
-        let stderr = String::from_utf8_lossy(&o.stderr);
-        assert!(!o.status.success(), "{stderr}");
+        let preview_args = preview.iter().flat_map(|p| [std::ffi::OsStr::new("--preview"), p.as_os_str()]);
+        let (status, stderr) = render_cli(&s.path, &out, preview_args);
+        assert!(!status.success(), "{stderr}");
         assert!(stderr.contains("no-such-dir") && stderr.contains("does not exist"), "{stderr}");
         assert!(!out.exists() && !exr.exists(), "nothing may be written");
     }
     // --preview onto the scene names the preview
-    let o = quasar()
-        .args(["render", "--quiet"])
-        .arg(&s.path)
-        .arg("-o")
-        .arg(&exr)
-        .arg("--preview")
-        .arg(&s.path)
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&o.stderr);
+    let (status, stderr) = render_cli(&s.path, &exr, [std::ffi::OsStr::new("--preview"), s.path.as_os_str()]);
     assert!(
-        !o.status.success() && stderr.contains(&format!("{}: the output would overwrite", s.path.display())),
+        !status.success() && stderr.contains(&format!("{}: the output would overwrite", s.path.display())),
         "{stderr}"
     );
 }
@@ -387,15 +383,8 @@ fn a_missed_target_error_is_reported() {
     let s = write_scene(GOOD, &[]);
     let out = s.dir.path().join("te.exr");
     for (target, reached) in [("1e-9", "false"), ("0.9", "true")] {
-        let o = quasar()
-            .args(["render", "--quiet", "--target-error", target, "--time", "0.5"])
-            .arg(&s.path)
-            .arg("-o")
-            .arg(&out)
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&o.stderr);
-        assert!(o.status.success(), "{stderr}");
+        let (status, stderr) = render_cli(&s.path, &out, ["--target-error", target, "--time", "0.5"]);
+        assert!(status.success(), "{stderr}");
         assert_eq!(stderr.contains("not reached"), reached == "false", "{stderr}");
         let img = quasar::output::read_exr(&out).unwrap();
         assert_eq!(img.meta("target_error_reached"), Some(reached), "{target}");
@@ -408,25 +397,12 @@ fn a_missed_target_error_is_reported() {
 fn resuming_with_fewer_samples_than_the_checkpoint_warns() {
     let s = write_scene(GOOD, &[]);
     let (ckpt, out) = (s.dir.path().join("c.ckpt"), s.dir.path().join("c.exr"));
-    let st = quasar()
-        .args(["render", "--quiet", "--spp", "8", "--checkpoint"])
-        .arg(&ckpt)
-        .arg(&s.path)
-        .arg("-o")
-        .arg(&out)
-        .status()
-        .unwrap();
-    assert!(st.success());
-    let o = quasar()
-        .args(["render", "--quiet", "--spp", "4", "--resume"])
-        .arg(&ckpt)
-        .arg(&s.path)
-        .arg("-o")
-        .arg(&out)
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&o.stderr);
-    assert!(o.status.success() && stderr.contains("already holds 8") && stderr.contains("more than the 4"), "{stderr}");
+    let (status, stderr) =
+        render_cli(&s.path, &out, ["--spp".as_ref(), "8".as_ref(), "--checkpoint".as_ref(), ckpt.as_os_str()]);
+    assert!(status.success(), "{stderr}");
+    let (status, stderr) =
+        render_cli(&s.path, &out, ["--spp".as_ref(), "4".as_ref(), "--resume".as_ref(), ckpt.as_os_str()]);
+    assert!(status.success() && stderr.contains("already holds 8") && stderr.contains("more than the 4"), "{stderr}");
 }
 
 /// A scene without lights, or whose image is all black, renders with a warning naming the
@@ -438,13 +414,11 @@ fn black_renders_are_reported() {
     for (text, needle) in [(no_light, "has no light"), (light_inside, "the image is black")] {
         let s = write_scene(&text, &[]);
         let out = s.dir.path().join("black.exr");
-        let o = quasar().args(["render", "--quiet"]).arg(&s.path).arg("-o").arg(&out).output().unwrap();
-        let stderr = String::from_utf8_lossy(&o.stderr);
-        assert!(o.status.success() && stderr.contains(needle), "{stderr}");
+        let (status, stderr) = render_cli(&s.path, &out, [] as [&str; 0]);
+        assert!(status.success() && stderr.contains(needle), "{stderr}");
         assert!(stderr.contains(&s.path.display().to_string()), "{stderr}");
     }
     let s = write_scene(GOOD, &[]);
-    let o =
-        quasar().args(["render", "--quiet"]).arg(&s.path).arg("-o").arg(s.dir.path().join("lit.exr")).output().unwrap();
-    assert!(!String::from_utf8_lossy(&o.stderr).contains("black"));
+    let (_, stderr) = render_cli(&s.path, &s.dir.path().join("lit.exr"), [] as [&str; 0]);
+    assert!(!stderr.contains("black"));
 }

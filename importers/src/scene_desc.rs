@@ -72,7 +72,8 @@ pub enum LightDesc {
         position: Vec3,
         /// Spectral shape.
         spectrum: Spectrum,
-        /// Multiplier.
+        /// Factor on `spectrum`: the emitted quantity is scale x spectrum (luminance-normalised
+        /// spectra make it a luminance-equivalent value).
         scale: f32,
     },
     /// Spot light: point light restricted to a cone, smooth falloff between the two angles.
@@ -96,7 +97,8 @@ pub enum LightDesc {
         direction: Vec3,
         /// Spectral shape.
         spectrum: Spectrum,
-        /// Multiplier.
+        /// Factor on `spectrum`: the emitted quantity is scale x spectrum (luminance-normalised
+        /// spectra make it a luminance-equivalent value).
         scale: f32,
     },
     /// Environment at infinity: radiance L(lambda) = scale * spectrum from every direction, or
@@ -104,7 +106,8 @@ pub enum LightDesc {
     Environment {
         /// Spectral shape (constant environments).
         spectrum: Spectrum,
-        /// Multiplier.
+        /// Factor on `spectrum`: the emitted quantity is scale x spectrum (luminance-normalised
+        /// spectra make it a luminance-equivalent value).
         scale: f32,
         /// A lat-long radiance map (`file = "sky.exr"`).
         map: Option<std::sync::Arc<EnvMapDesc>>,

@@ -16,7 +16,8 @@ use crate::core::sampling::{self, Distribution1D};
 pub struct Emission {
     /// Spectral shape.
     pub spectrum: Spectrum,
-    /// Multiplier.
+    /// Factor on `spectrum`: the emitted quantity is scale x spectrum (luminance-normalised
+    /// spectra make it a luminance-equivalent value).
     pub scale: f32,
     /// Emits from both faces.
     pub two_sided: bool,
@@ -49,7 +50,8 @@ pub enum Light {
         position: Vec3,
         /// Intensity spectrum.
         spectrum: Spectrum,
-        /// Multiplier.
+        /// Factor on `spectrum`: the emitted quantity is scale x spectrum (luminance-normalised
+        /// spectra make it a luminance-equivalent value).
         scale: f32,
     },
     /// Spot light with smoothstep falloff between two cone angles.
@@ -64,7 +66,8 @@ pub enum Light {
         cos_falloff_start: f32,
         /// On-axis intensity spectrum.
         spectrum: Spectrum,
-        /// Multiplier.
+        /// Factor on `spectrum`: the emitted quantity is scale x spectrum (luminance-normalised
+        /// spectra make it a luminance-equivalent value).
         scale: f32,
     },
     /// Distant light arriving from `-direction` with irradiance scale * spectrum.
@@ -73,7 +76,8 @@ pub enum Light {
         direction: Vec3,
         /// Irradiance spectrum.
         spectrum: Spectrum,
-        /// Multiplier.
+        /// Factor on `spectrum`: the emitted quantity is scale x spectrum (luminance-normalised
+        /// spectra make it a luminance-equivalent value).
         scale: f32,
         /// Radius of the scene's bounding sphere (for power).
         scene_radius: f32,
@@ -82,7 +86,8 @@ pub enum Light {
     Environment {
         /// Radiance spectrum (constant environments).
         spectrum: Spectrum,
-        /// Multiplier.
+        /// Factor on `spectrum`: the emitted quantity is scale x spectrum (luminance-normalised
+        /// spectra make it a luminance-equivalent value).
         scale: f32,
         /// Radius of the scene's bounding sphere (for power).
         scene_radius: f32,

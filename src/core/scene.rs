@@ -359,10 +359,15 @@ impl Scene {
     /// for probes that need no shading normal, texture coordinates or material.
     #[inline]
     pub fn intersect_geometry(&self, ray: &Ray) -> Option<GeometricHit> {
-        let h = self.accel.intersect(ray)?;
+        Some(self.geometry(&self.accel.intersect(ray)?))
+    }
+
+    /// Point, error bound and unit geometric normal of hit `h`.
+    #[inline]
+    fn geometry(&self, h: &Hit) -> GeometricHit {
         let g = &self.accel.geom[h.prim as usize];
         let (p, p_err) = g.point_with_error(h.b1, h.b2);
-        Some(GeometricHit { p, p_err, ng: g.normal_unnormalised().normalize_or_zero(), t: h.t })
+        GeometricHit { p, p_err, ng: g.normal_unnormalised().normalize_or_zero(), t: h.t }
     }
 
     /// True when the segment of `ray` up to `t_max` is blocked.
@@ -374,8 +379,7 @@ impl Scene {
     fn interaction(&self, _ray: &Ray, h: &Hit) -> SurfaceInteraction {
         let g = &self.accel.geom[h.prim as usize];
         let info = &self.accel.info[h.prim as usize];
-        let (p, p_err) = g.point_with_error(h.b1, h.b2);
-        let ng = g.normal_unnormalised().normalize_or_zero();
+        let GeometricHit { p, p_err, ng, .. } = self.geometry(h);
         let mut ns = ng;
         if info.normals != NONE {
             let n = &self.normals[info.normals as usize..info.normals as usize + 3];

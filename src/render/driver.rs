@@ -100,12 +100,12 @@ fn run_in_pool(
     let pixels = w as u64 * h as u64;
     let kind = Progress::of(opts, pixels * total.saturating_sub(done) as u64);
     let progress = opts.progress.then(|| kind.bar());
-    let clock = Instant::now();
+    let (mut rendered, render_start) = (0u32, Instant::now());
     let inc = |n: u64| {
         if let Some(b) = &progress {
             match kind {
                 Progress::Samples(_) => b.inc(n),
-                Progress::Time(ms) => b.set_position((clock.elapsed().as_millis() as u64).min(ms)),
+                Progress::Time(ms) => b.set_position((render_start.elapsed().as_millis() as u64).min(ms)),
                 Progress::Open => b.tick(),
             }
         }
@@ -130,7 +130,6 @@ fn run_in_pool(
             }
         }
     };
-    let (mut rendered, render_start) = (0u32, Instant::now());
     while done < total {
         let n = pass.min(total - done);
         let end = method.render_pass(&mut film, done, n, &control);
