@@ -405,18 +405,26 @@ fn resuming_with_fewer_samples_than_the_checkpoint_warns() {
     assert!(status.success() && stderr.contains("already holds 8") && stderr.contains("more than the 4"), "{stderr}");
 }
 
-/// A scene without lights, or whose image is all black, renders with a warning naming the
-/// scene instead of a silent black image (issue 18).
+/// A scene without lights is lit by the default white environment with a warning naming the
+/// scene; with `--default-light none`, or when the image is all black, the render warns of the
+/// black image instead of writing it silently (issue 18).
 #[test]
 fn black_renders_are_reported() {
     let no_light = GOOD.split("[[light]]").next().unwrap().to_string();
     let light_inside = no_light.clone() + "[[light]]\ntype = \"point\"\nposition = [0, 0, 0]\nscale = 1\n";
-    for (text, needle) in [(no_light, "has no light"), (light_inside, "the image is black")] {
-        let s = write_scene(&text, &[]);
+    let cases: [(&str, &[&str], &str); 3] = [
+        (&no_light, &[], "it is lit by a uniform white environment"),
+        (&no_light, &["--default-light", "none"], "has no light (no emissive"),
+        (&light_inside, &[], "the image is black"),
+    ];
+    for (text, args, needle) in cases {
+        let s = write_scene(text, &[]);
         let out = s.dir.path().join("black.exr");
-        let (status, stderr) = render_cli(&s.path, &out, [] as [&str; 0]);
+        let (status, stderr) = render_cli(&s.path, &out, args);
         assert!(status.success() && stderr.contains(needle), "{stderr}");
         assert!(stderr.contains(&s.path.display().to_string()), "{stderr}");
+        let lit = quasar::output::read_exr(&out).unwrap().channel("Y").unwrap().iter().any(|&y| y > 0.0);
+        assert_eq!(lit, args.is_empty() && text == no_light, "{needle}");
     }
     let s = write_scene(GOOD, &[]);
     let (_, stderr) = render_cli(&s.path, &s.dir.path().join("lit.exr"), [] as [&str; 0]);

@@ -9,6 +9,7 @@
 pub mod bsdf_file;
 pub mod env_map;
 pub mod error;
+pub mod framing;
 mod glob;
 pub mod gltf;
 pub mod importer;

@@ -26,6 +26,10 @@
 //!   `Spectrum::rgb_illuminant(Ke)`, scale 1, emitting only to the front (counter-clockwise) side.
 //! - Textures, `Ka` and `illum` models other than the transparent ones are ignored.
 //!
+//! # Camera
+//! OBJ has no cameras: the scene camera frames the model ([`crate::framing`]: its bounding sphere
+//! from the front, or through the open side of an open model such as a Cornell box).
+//!
 //! Without any `mtllib`, every mesh gets a default grey diffuse material (reflectance 0.8,
 //! two-sided) named after its `usemtl` name (or `default`). With an `mtllib`, a `usemtl` name
 //! that no library defines is an error; a missing library file is an error naming the OBJ line.
@@ -209,7 +213,8 @@ struct SceneMaterial {
 }
 
 /// Imports an OBJ file (and its MTL libraries, unless `materials` is [`ObjMaterials::NamesOnly`])
-/// into a [`SceneDesc`] with materials and meshes only (default camera and settings, no lights).
+/// into a [`SceneDesc`] with materials and meshes, the framing camera of [`crate::framing`] and
+/// default settings (no lights but emissive `Ke` meshes).
 pub fn import_obj(path: &Path, opts: &ImportOptions, materials: ObjMaterials) -> Result<SceneDesc, ImportError> {
     let scale = opts.scale(path)?;
     let len = std::fs::metadata(path).map_err(|e| ImportError::io(path, "cannot open OBJ file", e))?.len();
@@ -224,6 +229,7 @@ pub fn import_obj(path: &Path, opts: &ImportOptions, materials: ObjMaterials) ->
     if summary.triangles == 0 {
         return Err(ImportError::new(ImportErrorKind::InvalidValue, ErrorPlace::file(path), "OBJ file has no faces"));
     }
+    let warnings = obj_lint::ignored_warnings(path, &summary);
 
     // Material libraries: name -> material (a later definition wins, as in tobj).
     let mut libs: Vec<MtlMaterial> = Vec::new();
@@ -362,7 +368,9 @@ pub fn import_obj(path: &Path, opts: &ImportOptions, materials: ObjMaterials) ->
     }
     Ok(SceneDesc {
         materials: scene_mats.into_iter().map(|m| m.desc).collect(),
+        camera: crate::framing::framing_camera(&meshes).unwrap_or_default(),
         meshes,
+        warnings,
         source: path.to_owned(),
         ..Default::default()
     })

@@ -50,7 +50,69 @@ pub(crate) struct ObjSummary {
     pub mtllibs: Vec<MtlLib>,
     /// `usemtl` statements in file order.
     pub usemtls: Vec<UseMtl>,
+    /// Statements that are ignored although they are not blank or comments, in file order:
+    /// (line, keyword). Keywords of the OBJ specification that quasar does not render (free-form
+    /// curves and surfaces, points, lines, display attributes) and keywords it does not know.
+    pub ignored: Vec<(usize, String)>,
 }
+
+/// OBJ keywords that are read (by the check and `tobj`) or deliberately ignored without a word:
+/// grouping, smoothing and merging groups, level of detail.
+const QUIET_KEYWORDS: [&str; 6] = ["o", "g", "s", "mg", "lod", "vp"];
+
+/// The warnings for the statements of `sum.ignored`: one per keyword, with its count and first
+/// line (``file:line: statement `hello` ignored (not an OBJ keyword; 3 such statements, the
+/// first here)``).
+pub(crate) fn ignored_warnings(file: &Path, sum: &ObjSummary) -> Vec<String> {
+    let mut seen: Vec<(&str, usize, usize)> = Vec::new();
+    for (line, kw) in &sum.ignored {
+        match seen.iter_mut().find(|(k, _, _)| k == kw) {
+            Some(e) => e.2 += 1,
+            None => seen.push((kw, *line, 1)),
+        }
+    }
+    seen.into_iter()
+        .map(|(kw, line, n)| {
+            let why = if SPEC_UNRENDERED.contains(&kw) {
+                "free-form geometry, points, lines and display attributes are not rendered"
+            } else {
+                "not an OBJ keyword"
+            };
+            let count = if n == 1 { String::new() } else { format!("; {n} such statements, the first here") };
+            format!("{}:{line}: statement `{kw}` ignored ({why}{count})", file.display())
+        })
+        .collect()
+}
+
+/// Keywords of the OBJ specification that quasar reads past: free-form geometry and its
+/// attributes, points and lines, display and render attributes.
+const SPEC_UNRENDERED: [&str; 25] = [
+    "p",
+    "cstype",
+    "deg",
+    "bmat",
+    "step",
+    "curv",
+    "curv2",
+    "surf",
+    "parm",
+    "trim",
+    "hole",
+    "scrv",
+    "sp",
+    "end",
+    "con",
+    "bevel",
+    "c_interp",
+    "d_interp",
+    "usemap",
+    "maplib",
+    "shadow_obj",
+    "trace_obj",
+    "ctech",
+    "stech",
+    "call",
+];
 
 fn syntax(file: &Path, line: usize, msg: impl Into<String>) -> ImportError {
     ImportError::new(ImportErrorKind::Syntax, ErrorPlace::line(file, line), msg)
@@ -249,7 +311,8 @@ pub(crate) fn lint_obj(file: &Path, reader: &mut impl BufRead) -> Result<ObjSumm
                 }
                 sum.usemtls.push(UseMtl { line: lineno, tobj_key: key.to_owned(), name: name.to_owned() });
             }
-            _ => {}
+            kw if QUIET_KEYWORDS.contains(&kw) => {}
+            kw => sum.ignored.push((lineno, kw.to_owned())),
         }
     }
     Ok(sum)

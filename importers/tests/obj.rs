@@ -290,3 +290,41 @@ fn trailing_comments_are_accepted() {
     // a comment is not a value: a vertex with two coordinates and a comment is still an error
     assert!(err(&[("bad.obj", "v 1 2 # 3\n")]).contains("bad.obj:1"));
 }
+
+/// Statements the importer does not use are named in one warning per keyword with the first line
+/// and the count (an OBJ line `hello world` was silently accepted; issue 18); grouping and
+/// smoothing statements stay silent.
+#[test]
+fn ignored_statements_are_warned_about() {
+    let text = format!("hello world\no thing\ng group\ns 1\n{TRI}hello again\ncurv 0 1 1 2\nusemap none\n");
+    let s = ok(&[("w.obj", &text)]);
+    assert_eq!(s.meshes.len(), 1);
+    assert_eq!(s.warnings.len(), 3, "{:?}", s.warnings);
+    assert!(s.warnings[0].contains("w.obj:1: statement `hello` ignored (not an OBJ keyword; 2 such statements"));
+    assert!(s.warnings[1].contains("w.obj:10: statement `curv` ignored (free-form geometry"));
+    assert!(s.warnings[2].contains("w.obj:11: statement `usemap`"));
+    assert!(ok(&[("t.obj", TRI)]).warnings.is_empty());
+}
+
+/// OBJ files have no camera: the importer frames the model, through the opening of an open box
+/// (issue 18: McGuire's Cornell box rendered edge-on from the fixed default camera). The two
+/// shipped Cornell models are open at -Z (millimetres, the Cornell data's orientation) and at +Z.
+#[test]
+fn obj_models_get_a_framing_camera_on_their_open_side() {
+    let models = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/models/");
+    for (file, side) in [("cornell-box-mm.obj", -1.0f32), ("cornell-box-original.obj", 1.0)] {
+        let s = import_scene(std::path::Path::new(&format!("{models}{file}")), &ImportOptions::default()).unwrap();
+        let (lo, hi) = s
+            .meshes
+            .iter()
+            .flat_map(|m| &m.positions)
+            .fold((Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+        let c = &s.camera;
+        assert!((c.target - 0.5 * (lo + hi)).length() < 1e-3 * (hi - lo).length(), "{file}: {c:?}");
+        let rel = c.position - c.target;
+        assert!(rel.z * side > 0.0 && rel.x.abs() < 1e-3 * rel.length(), "{file}: looks from {rel}");
+        // the whole box is in view: the camera is outside its bounding sphere
+        assert!(rel.length() > 0.5 * (hi - lo).length(), "{file}");
+        assert!(s.warnings.is_empty(), "{file}: {:?}", s.warnings);
+    }
+}

@@ -57,11 +57,15 @@ pub fn parse_threads(s: &str) -> Result<usize, String> {
     Ok(n)
 }
 
-/// Parses a finite number (`--exposure`).
-pub fn parse_finite(s: &str) -> Result<f32, String> {
+/// Parses `--exposure`: `auto` or a finite number of stops.
+pub fn parse_exposure(s: &str) -> Result<quasar::output::preview::Exposure, String> {
+    use quasar::output::preview::Exposure;
+    if s.trim() == "auto" {
+        return Ok(Exposure::Auto);
+    }
     match s.trim().parse::<f32>() {
-        Ok(v) if v.is_finite() => Ok(v),
-        _ => Err(format!("expected a finite number, got {s:?}")),
+        Ok(v) if v.is_finite() => Ok(Exposure::Stops(v)),
+        _ => Err(format!("expected `auto` or a finite number of stops, got {s:?}")),
     }
 }
 
@@ -90,8 +94,10 @@ mod tests {
 
     #[test]
     fn numbers() {
-        assert_eq!(parse_finite("-1.5"), Ok(-1.5));
-        assert!(parse_finite("nan").is_err() && parse_finite("inf").is_err());
+        use quasar::output::preview::Exposure;
+        assert_eq!(parse_exposure("-1.5"), Ok(Exposure::Stops(-1.5)));
+        assert_eq!(parse_exposure("auto"), Ok(Exposure::Auto));
+        assert!(parse_exposure("nan").is_err() && parse_exposure("inf").is_err());
         assert!(parse_positive("0").is_err() && parse_positive("-3").is_err() && parse_positive("nan").is_err());
         assert_eq!(parse_positive("2.5"), Ok(2.5));
     }

@@ -8,10 +8,12 @@ use anyhow::Result;
 use clap::{Arg, ArgAction, ArgMatches, Args, Command, FromArgMatches};
 use quasar::integrator::method::{METHODS, all_params, method_names, users_of};
 use quasar::integrator::params::{MethodParams, ParamKind};
-use quasar::render::job::{JobOverrides, render_desc, write_outputs_with_exposure};
+use quasar::output::preview::{Exposure, View};
+use quasar::render::default_light::{DefaultLight, add_default_light};
+use quasar::render::job::{JobOverrides, render_desc, write_outputs_with_preview};
 use quasar_importers::ImportOptions;
 
-use super::parse::{parse_finite, parse_masking, parse_positive, parse_shard, parse_threads, parse_units, same_file};
+use super::parse::{parse_exposure, parse_masking, parse_positive, parse_shard, parse_threads, parse_units, same_file};
 
 /// The arguments of `quasar render`.
 #[derive(clap::Args)]
@@ -70,9 +72,19 @@ pub struct RenderArgs {
     /// separable (Mitsuba 3's and pbrt-v3's form, for comparisons with them).
     #[arg(long, value_parser = parse_masking)]
     pub masking: Option<quasar_materials::Masking>,
-    /// Exposure of the PNG preview in stops (the preview is scaled by 2^EV before clipping).
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = parse_finite)]
-    pub exposure: f32,
+    /// What lights a scene that has no light (glTF and OBJ models often have none): `env`, a
+    /// uniform white environment of luminance 1 (default, with a warning), or `none` (a black
+    /// image, with a warning).
+    #[arg(long, default_value = "env", value_parser = DefaultLight::from_name)]
+    pub default_light: DefaultLight,
+    /// Exposure of the PNG preview: `auto` (default: the log-average luminance becomes mid-grey
+    /// 0.18) or stops EV (the image is scaled by 2^EV; 0 shows the values as they are).
+    #[arg(long, default_value = "auto", allow_negative_numbers = true, value_parser = parse_exposure)]
+    pub exposure: Exposure,
+    /// View transform of the PNG preview: `filmic` (default: hue-preserving curve, bright colours
+    /// bleach to white) or `standard` (each channel clipped to 1).
+    #[arg(long, default_value = "filmic", value_parser = View::from_name)]
+    pub view: View,
     /// Also write a tone-mapped PNG preview.
     #[arg(long)]
     pub preview: Option<PathBuf>,
@@ -166,11 +178,16 @@ pub fn render(args: RenderArgs) -> Result<ExitCode> {
         checkpoint,
         resume,
         masking,
+        default_light,
         preview,
         exposure,
+        view,
         quiet,
     } = args;
-    let desc = super::load(&scene, &ImportOptions { allow_external_paths, units_scale: units })?;
+    let mut desc = super::load(&scene, &ImportOptions { allow_external_paths, units_scale: units })?;
+    if let Some(w) = add_default_light(&mut desc, default_light) {
+        eprintln!("warning: {w}");
+    }
     super::interrupt::install_handler();
     let ov = JobOverrides {
         width,
@@ -204,7 +221,7 @@ pub fn render(args: RenderArgs) -> Result<ExitCode> {
     for w in &out.result.warnings {
         eprintln!("warning: {w}");
     }
-    write_outputs_with_exposure(&out, &exr, preview.as_ref(), exposure)?;
+    write_outputs_with_preview(&out, &exr, preview.as_ref(), exposure, view)?;
     if out.result.interrupted {
         eprintln!("interrupted: wrote the partial image {} ({} spp)", exr.display(), out.result.spp);
         return Ok(ExitCode::from(super::EXIT_PARTIAL));

@@ -13,6 +13,7 @@ use crate::core::scene::Scene;
 use crate::film::Channel;
 use crate::integrator::method::{Build, Built, MethodChoice, all_params, instantiate};
 use crate::integrator::params::MethodParams;
+use crate::output::preview::{Exposure, View, exposure_scale};
 use crate::output::{ExrImage, write_exr_atomic, write_preview_png};
 
 /// Settings that override the scene file's `[render]` table (None = keep the scene's).
@@ -176,7 +177,7 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     drop(method);
     if scene.lights.is_empty() {
         result.warnings.push(format!(
-            "{}: the scene has no light (no emissive surface, light or environment), so the image is black: add a [[light]] (e.g. type = \"environment\") or an emissive material",
+            "{}: the scene has no light (no emissive surface, light or environment), so the image is black: add a [[light]] (e.g. type = \"environment\") or an emissive material, or render with --default-light env",
             desc.source.display()
         ));
     } else if result.film.pixels.iter().all(|p| p.sum_y(crate::film::Quantity::Beauty) == 0.0) {
@@ -234,24 +235,27 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     Ok(JobOutput { image, result })
 }
 
-/// Writes the EXR (atomically) and an optional PNG preview.
+/// Writes the EXR (atomically) and an optional PNG preview with automatic exposure and the
+/// filmic view.
 pub fn write_outputs(out: &JobOutput, exr: &Path, preview: Option<&PathBuf>) -> Result<()> {
-    write_outputs_with_exposure(out, exr, preview, 0.0)
+    write_outputs_with_preview(out, exr, preview, Exposure::Auto, View::default())
 }
 
-/// [`write_outputs`] with the preview scaled by 2^`exposure` (photometric scenes, e.g. glTF
-/// lights in candela, have small radiometric values; see docs/gltf.md).
-pub fn write_outputs_with_exposure(
+/// [`write_outputs`] with the preview's exposure and view transform given
+/// (`crate::output::preview`).
+pub fn write_outputs_with_preview(
     out: &JobOutput,
     exr: &Path,
     preview: Option<&PathBuf>,
-    exposure: f32,
+    exposure: Exposure,
+    view: View,
 ) -> Result<()> {
     write_exr_atomic(&out.image, exr)?;
     if let Some(p) = preview {
         let img = &out.image;
         let get = |n: &str| img.channel(n).context("beauty channel missing");
-        write_preview_png(p, img.width as u32, img.height as u32, [get("R")?, get("G")?, get("B")?], exposure)
+        let scale = exposure_scale(exposure, get("Y")?);
+        write_preview_png(p, img.width as u32, img.height as u32, [get("R")?, get("G")?, get("B")?], scale, view)
             .map_err(|e| anyhow::anyhow!(e))?;
     }
     Ok(())

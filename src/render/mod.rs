@@ -2,6 +2,7 @@
 //! checkpoint format, and the job that takes a scene file to an image.
 
 pub mod checkpoint;
+pub mod default_light;
 pub mod driver;
 pub mod interrupt;
 pub mod job;

@@ -12,7 +12,7 @@
 //!   factor x KHR_materials_emissive_strength (x the emissive texture's mean) is an area light
 //!   whose luminance in cd/m^2 is that value (see [`crate::photometric`]).
 //! - **Cameras**: perspective cameras in [`SceneDesc::cameras`]; the first is the scene camera,
-//!   else a framing camera; orthographic ones are replaced by a perspective camera (warning).
+//!   else the framing camera of [`crate::framing`]; orthographic ones are replaced by a perspective camera (warning).
 //! - **Lights**: KHR_lights_punctual, candela / lux converted by [`crate::photometric`].
 //! - **Extensions**: [`SUPPORTED_EXTENSIONS`]; others that are used give a warning, others that
 //!   are required give an error.
@@ -37,7 +37,7 @@ pub use source::MAX_GLTF_BUFFER_BYTES;
 pub use texture::{MAX_TEXTURE_ALLOC, MAX_TEXTURE_SIDE, decode_image};
 
 use self::accessor::Buffers;
-use self::nodes::{Walker, finish_cameras, framing_camera};
+use self::nodes::{Walker, finish_cameras};
 use self::texture::TextureLoader;
 use crate::error::{ErrorPlace, ImportError, ImportErrorKind};
 use crate::importer::{Formats, ImportOptions, Importer};
@@ -290,8 +290,7 @@ pub fn import_gltf(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Impor
             }
             c.camera.clone()
         }
-        None if lo.x <= hi.x => framing_camera(lo, hi),
-        None => Default::default(),
+        None => crate::framing::framing_camera(&meshes).unwrap_or_default(),
     };
     Ok(SceneDesc {
         materials,

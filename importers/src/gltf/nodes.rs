@@ -367,13 +367,3 @@ pub(super) fn finish_cameras(mut cams: Vec<PendingCamera>, center: Vec3) -> Vec<
         })
         .collect()
 }
-
-/// A camera that looks at the box `lo..hi` from the front (+Z, slightly above; glTF is +Y up).
-pub(super) fn framing_camera(lo: Vec3, hi: Vec3) -> CameraDesc {
-    let center = 0.5 * (lo + hi);
-    let radius = (0.5 * (hi - lo).length()).max(1e-6);
-    let fov_deg = 40.0f32;
-    let dist = radius / (0.5 * fov_deg).to_radians().sin() * 1.05;
-    let dir = Vec3::new(0.0, 0.35, 1.0).normalize();
-    CameraDesc { position: center + dir * dist, target: center, up: Vec3::Y, fov_deg, fov_axis: FovAxis::Y }
-}
