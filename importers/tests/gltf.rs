@@ -649,3 +649,53 @@ fn shipped_showcase_imports_cleanly() {
     let block = t.meshes.iter().find(|m| m.name == "Block:Block:RedPaint").unwrap();
     assert_eq!(t.materials[block.material].name, "copper");
 }
+
+/// Morph targets are applied at their default weights (the node's over the mesh's); skins,
+/// animations and COLOR_0 vertex colours, which are not used, give one warning each (issue 18:
+/// Khronos SimpleSkin, SimpleMorph and BoxVertexColors were read silently as if they had none).
+#[test]
+fn morph_targets_apply_and_unused_features_warn() {
+    let mut w = GltfWriter::new();
+    let position = w.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    let normal = w.normals(&[[0.0, 0.0, 1.0]; 3]);
+    let shift = w.positions(&[[0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 2.0, 0.0]]);
+    let tilt = w.normals(&[[1.0, 0.0, 0.0]; 3]);
+    let lift = w.positions(&[[0.0, 0.0, 4.0]; 3]);
+    let colors = w.normals(&[[1.0, 0.0, 0.0]; 3]);
+    let indices = w.indices(&[0, 1, 2]);
+    let mesh = format!(
+        r#"{{"name":"morph","weights":[0.5,0.0],"primitives":[{{"attributes":{{"POSITION":{position},"NORMAL":{normal},"COLOR_0":{colors}}},"indices":{indices},"targets":[{{"POSITION":{shift},"NORMAL":{tilt}}},{{"POSITION":{lift}}}]}}]}}"#
+    );
+    let m = GltfWriter::push(&mut w.meshes, &mesh);
+    let a = node(&mut w, &format!(r#"{{"name":"A","mesh":{m}}}"#));
+    let b = node(&mut w, &format!(r#"{{"name":"B","mesh":{m},"weights":[0.0,0.25],"skin":0}}"#));
+    let joint = node(&mut w, r#"{"name":"joint"}"#);
+    w.roots.extend([a, b, joint]);
+    GltfWriter::push(&mut w.skins, &format!(r#"{{"joints":[{joint}]}}"#));
+    // an animation moving the joint: one key (time 0, translation 0), read from the first view
+    let input =
+        w.raw_accessor(r#"{"bufferView":0,"componentType":5126,"count":1,"type":"SCALAR","min":[0],"max":[0]}"#);
+    let output = w.raw_accessor(r#"{"bufferView":0,"componentType":5126,"count":1,"type":"VEC3"}"#);
+    GltfWriter::push(
+        &mut w.animations,
+        &format!(
+            r#"{{"channels":[{{"sampler":0,"target":{{"node":{joint},"path":"translation"}}}}],"samplers":[{{"input":{input},"output":{output}}}]}}"#
+        ),
+    );
+    let d = Dir::new();
+    let s = import(&d.gltf("morph", &w));
+    let by = |n: &str| s.meshes.iter().find(|m| m.name.starts_with(n)).unwrap();
+    // A: mesh weights (0.5, 0): the third vertex moves up by 1, normals tilt towards +X
+    let ma = by("A:");
+    assert!(close(ma.positions[2], Vec3::new(0.0, 2.0, 0.0)), "{:?}", ma.positions);
+    let na = ma.normals.as_ref().unwrap()[0];
+    assert!(close(na, Vec3::new(0.5, 0.0, 1.0).normalize()), "{na}");
+    // B: node weights (0, 0.25) override: everything lifted by 1 along z, normals untouched
+    let mb = by("B:");
+    assert!(close(mb.positions[1], Vec3::new(1.0, 0.0, 1.0)), "{:?}", mb.positions);
+    assert!(close(mb.normals.as_ref().unwrap()[0], Vec3::Z));
+    let warned = |needle: &str| s.warnings.iter().filter(|w| w.contains(needle)).count();
+    assert_eq!(warned("the skin is ignored"), 1, "{:?}", s.warnings);
+    assert_eq!(warned("COLOR_0"), 1, "{:?}", s.warnings);
+    assert_eq!(warned("1 animation(s) ignored"), 1, "{:?}", s.warnings);
+}

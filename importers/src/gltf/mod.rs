@@ -198,7 +198,15 @@ pub fn import_gltf(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Impor
         triangles: 0,
         out: Default::default(),
         warned_modes: Vec::new(),
+        warned_features: Vec::new(),
     };
+    if doc.animations().len() > 0 {
+        warnings.push(format!(
+            "{}: {} animation(s) ignored: the static pose (node transforms, default morph weights) is rendered",
+            path.display(),
+            doc.animations().len()
+        ));
+    }
     walker.walk(roots, Affine3A::from_scale(Vec3::splat(scale)))?;
     let collected = std::mem::take(&mut walker.out);
     drop(walker);

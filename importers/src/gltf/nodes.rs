@@ -71,14 +71,16 @@ pub(super) struct Collected {
 pub(super) struct Walker<'a> {
     /// Buffers for accessor reads.
     pub buffers: Buffers<'a>,
-    /// Primitives already read, by (mesh, primitive).
-    pub cache: HashMap<(usize, usize), Rc<LocalPrim>>,
+    /// Primitives already read, by (mesh, primitive, morph weights' bits).
+    pub cache: HashMap<(usize, usize, Vec<u32>), Rc<LocalPrim>>,
     /// Triangles so far (instances counted).
     pub triangles: u64,
     /// Output.
     pub out: Collected,
     /// Primitive modes already warned about.
     pub warned_modes: Vec<Mode>,
+    /// Features already warned about (`skin`, `COLOR_0`): one warning per file each.
+    pub warned_features: Vec<&'static str>,
 }
 
 fn file_err(file: &Path, pointer: &str, msg: String) -> ImportError {
@@ -114,7 +116,15 @@ impl<'a> Walker<'a> {
             }
             let node_name = node.name().map_or_else(|| format!("node{}", node.index()), str::to_owned);
             if let Some(mesh) = node.mesh() {
-                self.mesh(&mesh, &world, &node_name)?;
+                if node.skin().is_some() {
+                    self.warn_once(
+                        "skin",
+                        format!("{ptr}: the skin is ignored; the mesh is rendered as stored (its bind pose) with the node's transform"),
+                    );
+                }
+                // a node's weights override its mesh's (glTF 2.0 §3.7.2.2)
+                let weights = node.weights().or(mesh.weights()).unwrap_or(&[]).to_vec();
+                self.mesh(&mesh, &world, &node_name, &weights)?;
             }
             if let Some(cam) = node.camera() {
                 self.camera(&cam, &world, &ptr);
@@ -129,6 +139,14 @@ impl<'a> Walker<'a> {
         Ok(())
     }
 
+    /// Adds `msg` (prefixed by the file) to the warnings unless `feature` was warned about.
+    fn warn_once(&mut self, feature: &'static str, msg: String) {
+        if !self.warned_features.contains(&feature) {
+            self.warned_features.push(feature);
+            self.out.warnings.push(format!("{}: {msg}", self.buffers.file.display()));
+        }
+    }
+
     fn triangle_count(&self, prim: &gltf::Primitive<'_>) -> u64 {
         let n = match prim.indices() {
             Some(a) => a.count(),
@@ -140,27 +158,45 @@ impl<'a> Walker<'a> {
         }
     }
 
-    fn read_prim(&self, prim: &gltf::Primitive<'_>, ptr: &str) -> Result<LocalPrim, ImportError> {
+    /// Reads a primitive with its morph targets applied at `weights` (missing weights are 0):
+    /// p = p0 + sum_t w_t dp_t, n = normalize(n0 + sum_t w_t dn_t) (glTF 2.0 §3.7.2.2).
+    fn read_prim(&self, prim: &gltf::Primitive<'_>, ptr: &str, weights: &[f32]) -> Result<LocalPrim, ImportError> {
         let file = self.buffers.file;
         let pos = prim.get(&gltf::Semantic::Positions).ok_or_else(|| {
             file_err(file, &format!("{ptr}/attributes"), "primitive has no POSITION attribute".into())
         })?;
-        let positions = self.buffers.vec3(&pos, &format!("{ptr}/attributes/POSITION"))?;
+        let mut positions = self.buffers.vec3(&pos, &format!("{ptr}/attributes/POSITION"))?;
         let n = positions.len();
-        let normals = match prim.get(&gltf::Semantic::Normals) {
-            Some(a) => {
-                let ns = self.buffers.vec3(&a, &format!("{ptr}/attributes/NORMAL"))?;
-                if ns.len() != n {
-                    return Err(file_err(
-                        file,
-                        &format!("{ptr}/attributes/NORMAL"),
-                        format!("{} normals for {n} positions", ns.len()),
-                    ));
-                }
-                ns.iter().all(|v| v.length_squared() > 0.0).then(|| ns.iter().map(|v| v.normalize()).collect())
-            }
+        let read_n = |a: &gltf::Accessor<'_>, at: String, what: &str| {
+            let v = self.buffers.vec3(a, &at)?;
+            if v.len() == n { Ok(v) } else { Err(file_err(file, &at, format!("{} {what} for {n} positions", v.len()))) }
+        };
+        let mut normals = match prim.get(&gltf::Semantic::Normals) {
+            Some(a) => Some(read_n(&a, format!("{ptr}/attributes/NORMAL"), "normals")?),
             None => None,
         };
+        for (t, target) in prim.morph_targets().enumerate() {
+            let w = weights.get(t).copied().unwrap_or(0.0);
+            if !w.is_finite() {
+                return Err(file_err(file, ptr, format!("morph target weight {t} is not finite")));
+            }
+            if w == 0.0 {
+                continue;
+            }
+            if let Some(a) = target.positions() {
+                let d = read_n(&a, format!("{ptr}/targets/{t}/POSITION"), "position displacements")?;
+                positions.iter_mut().zip(d).for_each(|(p, d)| *p += w * d);
+            }
+            if let (Some(ns), Some(a)) = (normals.as_mut(), target.normals()) {
+                let d = read_n(&a, format!("{ptr}/targets/{t}/NORMAL"), "normal displacements")?;
+                ns.iter_mut().zip(d).for_each(|(v, d)| *v += w * d);
+            }
+        }
+        let normals = normals.and_then(|ns| {
+            ns.iter()
+                .all(|v| v.is_finite() && v.length_squared() > 0.0)
+                .then(|| ns.iter().map(|v| v.normalize()).collect())
+        });
         let uvs = match prim.get(&gltf::Semantic::TexCoords(0)) {
             Some(a) => {
                 let uv = self.buffers.vec2(&a, &format!("{ptr}/attributes/TEXCOORD_0"))?;
@@ -189,7 +225,13 @@ impl<'a> Walker<'a> {
         Ok(LocalPrim { positions, normals, uvs, indices })
     }
 
-    fn mesh(&mut self, mesh: &gltf::Mesh<'_>, world: &Affine3A, node_name: &str) -> Result<(), ImportError> {
+    fn mesh(
+        &mut self,
+        mesh: &gltf::Mesh<'_>,
+        world: &Affine3A,
+        node_name: &str,
+        weights: &[f32],
+    ) -> Result<(), ImportError> {
         let file = self.buffers.file;
         let mesh_name = mesh.name().map_or_else(|| format!("mesh{}", mesh.index()), str::to_owned);
         for prim in mesh.primitives() {
@@ -214,11 +256,17 @@ impl<'a> Walker<'a> {
                     format!("the scene would have more than {MAX_SCENE_TRIANGLES} triangles (instances counted)"),
                 ));
             }
-            let key = (mesh.index(), prim.index());
+            if prim.get(&gltf::Semantic::Colors(0)).is_some() {
+                self.warn_once(
+                    "COLOR_0",
+                    format!("{ptr}: vertex colours (COLOR_0) are not used; the material's base colour is"),
+                );
+            }
+            let key = (mesh.index(), prim.index(), weights.iter().map(|w| w.to_bits()).collect());
             let local = match self.cache.get(&key) {
                 Some(p) => p.clone(),
                 None => {
-                    let p = Rc::new(self.read_prim(&prim, &ptr)?);
+                    let p = Rc::new(self.read_prim(&prim, &ptr, weights)?);
                     self.cache.insert(key, p.clone());
                     p
                 }

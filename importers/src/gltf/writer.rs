@@ -36,7 +36,8 @@ pub struct GltfWriter {
     bin: Vec<u8>,
     views: Vec<String>,
     accessors: Vec<String>,
-    meshes: Vec<String>,
+    /// `meshes` entries (JSON objects; [`GltfWriter::mesh`] adds them).
+    pub meshes: Vec<String>,
     /// `nodes` entries (JSON objects).
     pub nodes: Vec<String>,
     /// `materials` entries.
@@ -51,6 +52,10 @@ pub struct GltfWriter {
     pub images: Vec<String>,
     /// `samplers` entries.
     pub samplers: Vec<String>,
+    /// `skins` entries.
+    pub skins: Vec<String>,
+    /// `animations` entries.
+    pub animations: Vec<String>,
     /// Root nodes of the scene.
     pub roots: Vec<usize>,
     /// `extensionsUsed`.
@@ -197,6 +202,8 @@ impl GltfWriter {
             ("textures", &self.textures),
             ("images", &self.images),
             ("samplers", &self.samplers),
+            ("skins", &self.skins),
+            ("animations", &self.animations),
         ] {
             if !v.is_empty() {
                 let _ = write!(j, ",\"{k}\":{}", list(v));

@@ -70,3 +70,43 @@ Ke 17 12 4 # warm white, radiance
 illum 1
 """
 open('scenes/models/cornell-box-original.mtl','w').write(mtl)
+
+# 3. a unit box as glTF with an embedded (data URI) buffer, no camera, no light and COLOR_0
+# vertex colours, in the style of the Khronos Box / BoxVertexColors samples
+import base64, json, struct
+pos, nrm, col, idx = [], [], [], []
+for axis in range(3):
+    for sign in (1.0, -1.0):
+        n = [0.0, 0.0, 0.0]; n[axis] = sign
+        u = [0.0, 0.0, 0.0]; u[(axis + 1) % 3] = 1.0
+        v = [0.0, 0.0, 0.0]; v[(axis + 2) % 3] = 1.0
+        if sign < 0: u, v = v, u
+        base = len(pos)
+        for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
+            pos.append([0.5 * n[k] + 0.5 * a * u[k] + 0.5 * b * v[k] for k in range(3)])
+            nrm.append(n)
+            col.append([0.5 + 0.5 * n[0], 0.5 + 0.5 * n[1], 0.5 + 0.5 * n[2]])
+        idx += [base, base + 1, base + 2, base, base + 2, base + 3]
+blob = b''.join(struct.pack('<3f', *p) for p in pos)
+blob += b''.join(struct.pack('<3f', *p) for p in nrm)
+blob += b''.join(struct.pack('<3f', *p) for p in col)
+blob += b''.join(struct.pack('<H', i) for i in idx)
+nv = len(pos)
+doc = {
+    "asset": {"version": "2.0", "generator": "quasar scenes/models/make_models.py",
+              "copyright": "written for quasar, MIT OR Apache-2.0"},
+    "buffers": [{"byteLength": len(blob), "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}],
+    "bufferViews": [{"buffer": 0, "byteOffset": 12 * nv * k, "byteLength": 12 * nv, "target": 34962} for k in range(3)]
+                   + [{"buffer": 0, "byteOffset": 36 * nv, "byteLength": 2 * len(idx), "target": 34963}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": nv, "type": "VEC3", "min": [-0.5] * 3, "max": [0.5] * 3},
+                  {"bufferView": 1, "componentType": 5126, "count": nv, "type": "VEC3"},
+                  {"bufferView": 2, "componentType": 5126, "count": nv, "type": "VEC3"},
+                  {"bufferView": 3, "componentType": 5123, "count": len(idx), "type": "SCALAR"}],
+    "materials": [{"name": "Red", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.1, 0.1, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.6}}],
+    "meshes": [{"name": "Box", "primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "COLOR_0": 2}, "indices": 3, "material": 0}]}],
+    # tilted so that three faces show
+    "nodes": [{"name": "Box", "mesh": 0, "rotation": [0.2798, 0.3647, 0.1159, 0.8805]}],
+    "scenes": [{"nodes": [0]}],
+    "scene": 0,
+}
+open('scenes/models/box-vertex-colors.gltf', 'w').write(json.dumps(doc, indent=1) + '\n')
