@@ -34,6 +34,7 @@ pub static DIRECT: MethodEntry = MethodEntry {
     summary: "direct lighting only: lights seen directly or through specular chains, and NEE + MIS at the first non-specular vertex (a preview and debugging method; no indirect light)",
     params: &[&MAX_DEPTH],
     variant: None,
+    bytes_per_pixel: super::per_pixel::PER_PIXEL_BYTES_PER_PIXEL,
     build: |b, r| {
         let max_specular = r.int(&MAX_DEPTH)?.map_or(DEFAULT_MAX_SPECULAR, |d| d as u32);
         let method = PerPixel::new(b.scene, b.camera, DirectLighting { max_specular }, b.seed, b.shard);

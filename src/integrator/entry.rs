@@ -39,6 +39,11 @@ pub struct MethodEntry {
     pub params: &'static [&'static ParamSpec],
     /// The parameter `name:VALUE` sets in `quasar bench convergence --methods` (none: no option).
     pub variant: Option<&'static ParamSpec>,
+    /// Peak memory per image pixel (film, method state, output buffers), bytes: the largest
+    /// per-pixel slope of peak resident memory measured on the shipped scenes, plus 25%
+    /// (BENCHMARKS.md "Memory per pixel"); `render::memory` refuses renders that exceed the
+    /// machine's memory by it.
+    pub bytes_per_pixel: u64,
     /// Builds the method from its parameters (each validated there, once).
     pub build: for<'s> fn(&Build<'s>, &ParamReader) -> Result<Built<'s>, ParamError>,
 }

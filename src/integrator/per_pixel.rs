@@ -15,6 +15,10 @@ use crate::core::sampling::Sampler;
 use crate::core::scene::Scene;
 use crate::film::{Film, LayeredRadiance};
 
+/// Peak memory per pixel of the per-pixel methods (`pt`, `direct`): 319 bytes measured on every
+/// shipped scene (BENCHMARKS.md "Memory per pixel"), plus 25%.
+pub const PER_PIXEL_BYTES_PER_PIXEL: u64 = 400;
+
 /// An estimator of the radiance along one camera ray: what a per-pixel method adds to the
 /// generic pass.
 pub trait PixelEstimator: Sync + Send {

@@ -45,6 +45,7 @@ pub static PT: MethodEntry = MethodEntry {
     summary: "reference path tracer: next-event estimation + MIS (power heuristic), Russian roulette, unbounded depth",
     params: &[&MAX_DEPTH],
     variant: None,
+    bytes_per_pixel: super::per_pixel::PER_PIXEL_BYTES_PER_PIXEL,
     build: |b, r| {
         let settings = PtSettings { max_depth: r.int(&MAX_DEPTH)?.map(|d| d as u32), ..PtSettings::default() };
         Ok(Built { method: Box::new(PerPixel::new(b.scene, b.camera, settings, b.seed, b.shard)), units: b.spp })

@@ -118,6 +118,13 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     scene.masking = ov.masking.unwrap_or(r.masking);
     let camera = Camera::new(&desc.camera, width, height).with_context(|| desc.source.display().to_string())?;
     let entry = choice.resolve(&scene);
+    crate::render::memory::check_memory(
+        entry.name,
+        entry.bytes_per_pixel,
+        (width, height),
+        crate::render::memory::available_memory(),
+    )
+    .map_err(anyhow::Error::msg)?;
     let build = Build {
         scene: &scene,
         camera: &camera,

@@ -6,3 +6,4 @@ pub mod default_light;
 pub mod driver;
 pub mod interrupt;
 pub mod job;
+pub mod memory;

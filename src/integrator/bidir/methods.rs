@@ -81,6 +81,12 @@ pub static ALPHA: ParamSpec = ParamSpec {
     doc: "radius reduction alpha of progressive photon mapping",
 };
 
+/// Peak memory per pixel of the bidirectional methods: at most 2358 bytes measured on the
+/// shipped scenes at the default two photons per pixel (`adaptive+quasi` on the glossy room;
+/// BENCHMARKS.md "Memory per pixel"), plus 25%. The photon count hardly changes it (photons are
+/// gathered as they are traced): 8 per pixel added 45 bytes on the glass plate.
+pub const BIDIR_BYTES_PER_PIXEL: u64 = 2950;
+
 /// Default deepest gather depth of the adaptive methods.
 pub const DEFAULT_MAX_GATHER_DEPTH: u32 = 4;
 /// Default quasi-specular cone half-angle (degrees).
@@ -121,6 +127,7 @@ pub static VISMAP: MethodEntry = MethodEntry {
     summary: "bidirectional stochastic ray tracing with visibility maps (Zhdanov, Ershov & Voloboy 2015): per iteration one camera path per pixel leaves a visibility point at the gather depth, photons from the lights are gathered there within progressively shrinking radii",
     params: &[&ITERATIONS, &PHOTONS, &GATHER_DEPTH, &RADIUS, &ALPHA],
     variant: Some(&GATHER_DEPTH),
+    bytes_per_pixel: BIDIR_BYTES_PER_PIXEL,
     build: |b, r| build(b, r, false, false),
 };
 
@@ -130,6 +137,7 @@ pub static ADAPTIVE: MethodEntry = MethodEntry {
     summary: "vismap with a per-pixel gather depth: the vertex of least non-uniformity kappa (most diffuse BSDF), chosen from earlier iterations' pilot paths so that each iteration stays unbiased",
     params: &[&ITERATIONS, &PHOTONS, &MAX_GATHER_DEPTH, &ADAPTIVE_PAPER, &RADIUS, &ALPHA],
     variant: Some(&ADAPTIVE_PAPER),
+    bytes_per_pixel: BIDIR_BYTES_PER_PIXEL,
     build: |b, r| build(b, r, true, false),
 };
 
@@ -139,6 +147,7 @@ pub static QUASI: MethodEntry = MethodEntry {
     summary: "quasi-specular backward tracing: samples within the cone around a glossy surface's mirror or refraction direction continue the path, narrow lobes are passed through, light and photons are gathered over the rest of the sphere",
     params: &[&ITERATIONS, &PHOTONS, &GATHER_DEPTH, &CONE, &RADIUS, &ALPHA],
     variant: Some(&CONE),
+    bytes_per_pixel: BIDIR_BYTES_PER_PIXEL,
     build: |b, r| build(b, r, false, true),
 };
 
@@ -148,5 +157,6 @@ pub static ADAPTIVE_QUASI: MethodEntry = MethodEntry {
     summary: "adaptive depth and quasi-specular tracing together (quasi-specular events do not count as depth); what auto picks for narrow or specular scenes",
     params: &[&ITERATIONS, &PHOTONS, &MAX_GATHER_DEPTH, &ADAPTIVE_PAPER, &CONE, &RADIUS, &ALPHA],
     variant: Some(&CONE),
+    bytes_per_pixel: BIDIR_BYTES_PER_PIXEL,
     build: |b, r| build(b, r, true, true),
 };
