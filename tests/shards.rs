@@ -130,7 +130,11 @@ fn resume_equals_the_uninterrupted_render() {
         let other_seed = JobOverrides { seed: Some(18), resume: Some(cp.clone()), ..ov(method, None) };
         let desc = quasar::render::job::load_scene(&scene()).unwrap();
         let err = quasar::render::job::render_desc(&desc, &other_seed, false).err().unwrap();
-        assert!(format!("{err:#}").contains("another scene or other render settings"), "{err:#}");
+        // the error names the setting that differs (issue 18: it only said that one did)
+        let msg = format!("{err:#}");
+        assert!(msg.contains("other render settings: seed 18 (the checkpoint has"), "{msg}");
+        let diffs = msg.split("settings: ").nth(1).unwrap();
+        assert!(!diffs.contains("method") && !diffs.contains("scene"), "{msg}");
     }
     std::fs::write(dir.path().join("bad.ckpt"), b"QSRCKPT1garbage").unwrap();
     let desc = quasar::render::job::load_scene(&scene()).unwrap();

@@ -165,9 +165,9 @@ impl MethodParams {
         self.values.iter().filter(|(_, (_, o))| *o == Origin::CommandLine).map(|(k, _)| k.as_str())
     }
 
-    /// A canonical text of every value (for checkpoint fingerprints).
-    pub fn canonical(&self) -> String {
-        self.values.iter().map(|(k, (v, _))| format!("{k}={v:?};")).collect()
+    /// Every value as (key, text), in key order (the settings of a checkpoint's resume key).
+    pub fn entries(&self) -> Vec<(String, String)> {
+        self.values.iter().map(|(k, (v, _))| (k.clone(), v.to_string())).collect()
     }
 }
 

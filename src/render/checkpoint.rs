@@ -5,7 +5,8 @@
 //! uninterrupted render gives (every pixel sums its units in index order, and each unit depends
 //! only on its index and the method's state).
 //!
-//! Format (little-endian): magic `QSRCKPT3`, fingerprint u64 (scene and settings), width u32,
+//! Format (little-endian): magic `QSRCKPT4`, the resume key (count u64, then per setting its name
+//! and value, each as length u64 and UTF-8 bytes), width u32,
 //! height u32, done u32, pixel count u64, then per pixel 12 f64 layer sums, y_sq f64, 4 f64
 //! layer y_sq, samples u64, rejected u64; then the block batch statistics: level count u64
 //! (0: none), batches u64, and per level and block 5 f64 sums and 5 f64 sums of squares; then
@@ -18,7 +19,7 @@ use crate::core::bytes::{ByteReader, ByteWriter};
 use crate::core::sampling::mix64;
 use crate::film::{BlockBatches, Film, N_LAYERS, N_QUANTITIES, PixelSum};
 
-const MAGIC: &[u8; 8] = b"QSRCKPT3";
+const MAGIC: &[u8; 8] = b"QSRCKPT4";
 
 /// What a render has accumulated so far.
 #[derive(Clone, Debug, PartialEq)]
@@ -58,11 +59,44 @@ impl Fingerprint {
     }
 }
 
-/// The bytes of `state` with `fingerprint`.
-pub fn encode(fingerprint: u64, state: &RenderState) -> Vec<u8> {
+/// What must match for a resume, setting by setting (name, value): the scene's content hash, the
+/// method, image size, seed, shard, masking and every method parameter but the sample budget.
+/// Kept as text in the checkpoint so that a mismatch names the setting that differs.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct ResumeKey(pub Vec<(String, String)>);
+
+impl ResumeKey {
+    /// The settings of `self` (the render asked for) that differ from `stored` (the
+    /// checkpoint's), as `name VALUE (the checkpoint has OLD)`; None when they match.
+    pub fn mismatch(&self, stored: &ResumeKey) -> Option<String> {
+        let get = |k: &ResumeKey, name: &str| k.0.iter().find(|(n, _)| n == name).map(|(_, v)| v.clone());
+        let mut names: Vec<&str> = self.0.iter().map(|(n, _)| n.as_str()).collect();
+        names.extend(stored.0.iter().map(|(n, _)| n.as_str()).filter(|n| !self.0.iter().any(|(m, _)| m == n)));
+        let diffs: Vec<String> = names
+            .into_iter()
+            .filter_map(|n| {
+                let (now, then) = (get(self, n), get(stored, n));
+                (now != then).then(|| {
+                    let show = |v: Option<String>| v.unwrap_or_else(|| "unset".into());
+                    format!("{n} {} (the checkpoint has {})", show(now), show(then))
+                })
+            })
+            .collect();
+        (!diffs.is_empty()).then(|| diffs.join(", "))
+    }
+}
+
+/// The bytes of `state` with its resume `key`.
+pub fn encode(key: &ResumeKey, state: &RenderState) -> Vec<u8> {
     let mut w = ByteWriter::default();
     w.bytes(MAGIC);
-    w.u64(fingerprint);
+    w.u64(key.0.len() as u64);
+    for (n, v) in &key.0 {
+        for t in [n, v] {
+            w.u64(t.len() as u64);
+            w.bytes(t.as_bytes());
+        }
+    }
     w.u32(state.film.width);
     w.u32(state.film.height);
     w.u32(state.done);
@@ -89,20 +123,39 @@ pub fn encode(fingerprint: u64, state: &RenderState) -> Vec<u8> {
     w.0
 }
 
-/// Writes `state` with `fingerprint` to `path` atomically.
-pub fn write(path: &Path, fingerprint: u64, state: &RenderState) -> Result<(), String> {
-    crate::output::write_atomic_bytes(path, &encode(fingerprint, state)).map_err(|e| e.to_string())
+/// Writes `state` with its resume `key` to `path` atomically.
+pub fn write(path: &Path, key: &ResumeKey, state: &RenderState) -> Result<(), String> {
+    crate::output::write_atomic_bytes(path, &encode(key, state)).map_err(|e| e.to_string())
 }
 
+/// Longest name or value of a resume key setting read back (bytes).
+const MAX_KEY_TEXT: u64 = 1 << 16;
+
 /// Decodes checkpoint bytes; errors say what is wrong, and a checkpoint of another scene or
-/// other settings (`fingerprint`) is refused.
-pub fn decode(bytes: &[u8], fingerprint: u64) -> Result<RenderState, String> {
+/// other settings than `key` is refused, naming the settings that differ.
+pub fn decode(bytes: &[u8], key: &ResumeKey) -> Result<RenderState, String> {
     let mut r = ByteReader::new(bytes);
     if r.take(8).ok() != Some(&MAGIC[..]) {
         return Err("not a quasar checkpoint (or one of an older version)".into());
     }
-    if r.u64()? != fingerprint {
-        return Err("the checkpoint belongs to another scene or other render settings".into());
+    let count = r.u64()?;
+    if count > 1024 {
+        return Err(format!("{count} settings in the resume key"));
+    }
+    let mut stored = ResumeKey::default();
+    for _ in 0..count {
+        let mut text = || -> Result<String, String> {
+            let len = r.u64()?;
+            if len > MAX_KEY_TEXT {
+                return Err(format!("a resume key entry of {len} bytes"));
+            }
+            String::from_utf8(r.take(len as usize)?.to_vec()).map_err(|_| "a resume key entry is not UTF-8".to_string())
+        };
+        let name = text()?;
+        stored.0.push((name, text()?));
+    }
+    if let Some(diff) = key.mismatch(&stored) {
+        return Err(format!("the checkpoint belongs to another scene or other render settings: {diff}"));
     }
     let (width, height, done) = (r.u32()?, r.u32()?, r.u32()?);
     let n = r.u64()?;
@@ -150,7 +203,34 @@ pub fn decode(bytes: &[u8], fingerprint: u64) -> Result<RenderState, String> {
 }
 
 /// Reads a checkpoint file; errors name the file (see [`decode`]).
-pub fn read(path: &Path, fingerprint: u64) -> Result<RenderState, String> {
+pub fn read(path: &Path, key: &ResumeKey) -> Result<RenderState, String> {
     let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    decode(&bytes, fingerprint).map_err(|e| format!("{}: {e}", path.display()))
+    decode(&bytes, key).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn key(pairs: &[(&str, &str)]) -> ResumeKey {
+        ResumeKey(pairs.iter().map(|(n, v)| (n.to_string(), v.to_string())).collect())
+    }
+
+    #[test]
+    fn a_mismatch_names_the_settings_that_differ() {
+        let state = RenderState { film: Film::new(2, 1), done: 3, method_state: vec![1, 2] };
+        let k = key(&[("scene", "ab12"), ("method", "vismap"), ("seed", "1"), ("radius", "0.5")]);
+        let bytes = encode(&k, &state);
+        assert_eq!(decode(&bytes, &k).unwrap(), state);
+        let now = key(&[("scene", "ab12"), ("method", "vismap"), ("seed", "2"), ("alpha", "0.7")]);
+        let e = decode(&bytes, &now).unwrap_err();
+        assert!(e.contains("seed 2 (the checkpoint has 1)"), "{e}");
+        assert!(e.contains("alpha 0.7 (the checkpoint has unset)"), "{e}");
+        assert!(e.contains("radius unset (the checkpoint has 0.5)"), "{e}");
+        assert!(!e.contains("method"), "{e}");
+        // truncated anywhere: an error, never a panic
+        for n in 0..bytes.len() {
+            assert!(decode(&bytes[..n], &k).is_err());
+        }
+    }
 }

@@ -39,8 +39,8 @@ pub struct DriverOptions {
     pub progress: bool,
     /// Continue from this state (`--resume`).
     pub resume: Option<RenderState>,
-    /// Write checkpoints here, with this fingerprint (`--checkpoint`).
-    pub checkpoint: Option<(PathBuf, u64)>,
+    /// Write checkpoints here, with this resume key (`--checkpoint`).
+    pub checkpoint: Option<(PathBuf, checkpoint::ResumeKey)>,
 }
 
 /// What a render produced.
@@ -123,9 +123,9 @@ fn run_in_pool(
         ));
     }
     let mut save = |film: &Film, done: u32, method: &dyn RenderMethod| {
-        if let Some((path, fingerprint)) = &opts.checkpoint {
+        if let Some((path, key)) = &opts.checkpoint {
             let state = RenderState { film: film.clone(), done, method_state: method.save_state() };
-            if let Err(e) = checkpoint::write(path, *fingerprint, &state) {
+            if let Err(e) = checkpoint::write(path, key, &state) {
                 warnings.push(format!("checkpoint not written: {e}"));
             }
         }

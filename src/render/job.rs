@@ -133,23 +133,27 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         spp: if open_ended { ov.spp.unwrap_or(u32::MAX / 2) } else { spp },
     };
     let Built { mut method, units } = instantiate(entry, &params, &build).map_err(anyhow::Error::msg)?;
-    // what must match for a resume: the scene and every setting but the sample budget (hashed
-    // only when checkpoints are used: it walks the whole scene description)
-    let fingerprint = if ov.resume.is_some() || ov.checkpoint.is_some() {
+    // what must match for a resume: the scene and every setting but the sample budget (the
+    // scene is hashed only when checkpoints are used: it walks the whole scene description)
+    let resume_key = if ov.resume.is_some() || ov.checkpoint.is_some() {
         let mut budgetless = params.clone();
         budgetless.remove("iterations");
-        crate::render::checkpoint::Fingerprint::of(&[
-            desc,
-            &entry.name,
-            &(width, height, seed, shard, scene.masking),
-            &budgetless.canonical(),
-        ])
+        let mut key = vec![
+            ("scene".to_string(), format!("{:016x}", crate::render::checkpoint::Fingerprint::of(&[desc]))),
+            ("method".into(), entry.name.to_string()),
+            ("size".into(), format!("{width}x{height}")),
+            ("seed".into(), seed.to_string()),
+            ("shard".into(), format!("{}/{}", shard.0, shard.1)),
+            ("masking".into(), scene.masking.name().to_string()),
+        ];
+        key.extend(budgetless.entries());
+        crate::render::checkpoint::ResumeKey(key)
     } else {
-        0
+        Default::default()
     };
     let resume = match &ov.resume {
         Some(p) => {
-            let st = crate::render::checkpoint::read(p, fingerprint).map_err(anyhow::Error::msg)?;
+            let st = crate::render::checkpoint::read(p, &resume_key).map_err(anyhow::Error::msg)?;
             if (st.film.width, st.film.height) != (width, height) {
                 bail!("{}: checkpoint of a {}x{} render", p.display(), st.film.width, st.film.height);
             }
@@ -165,7 +169,7 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         threads: ov.threads,
         progress,
         resume,
-        checkpoint: ov.checkpoint.clone().map(|p| (p, fingerprint)),
+        checkpoint: ov.checkpoint.clone().map(|p| (p, resume_key)),
     };
     // the scene's content without the places it was read from (a render of the same scene from
     // another directory has the same one), so that `quasar merge` can refuse unrelated renders
