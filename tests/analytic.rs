@@ -39,7 +39,7 @@ scale = {le}
     );
     let out = render_file(&scene.path, &JobOverrides { spp: Some(256), seed: Some(1), ..Default::default() });
     let img = &out.image;
-    let y = img.channel("Y").unwrap();
+    let y = img.channel("XYZ.Y").unwrap();
     let depth = img.channel("depth.Z").unwrap();
     let emission = img.channel("emission.G").unwrap();
     // centre pixels: well inside the silhouette (sphere of radius 1 at distance 4 spans ~8 px of 24)
@@ -115,7 +115,7 @@ material = "floor"
         &[],
     );
     let out = render_file(&scene.path, &JobOverrides { spp: Some(spp), seed: Some(2), ..Default::default() });
-    (common::mean(&common::layer_luminance(&out.image, "direct")), common::mean(out.image.channel("Y").unwrap()))
+    (common::mean(&common::layer_luminance(&out.image, "direct")), common::mean(out.image.channel("XYZ.Y").unwrap()))
 }
 
 /// Known irradiance from delta lights: a point light of intensity I at height h above a

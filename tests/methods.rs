@@ -27,12 +27,12 @@ fn method_ov(w: u32, h: u32, method: &str, cone: Option<f32>, iterations: u32) -
 /// faces and on the narrow floor are heavy-tailed in smaller blocks at this budget); a method
 /// marked `coarse` (vismap gathering on a narrow lobe) is tested from 16-pixel blocks only.
 fn check_methods(path: &Path, reference: &JobOutput, w: u32, h: u32, methods: &[(&str, Option<f32>, bool)]) {
-    let r = reference.image.channel("Y").unwrap();
+    let r = reference.image.channel("XYZ.Y").unwrap();
     for &(method, cone, coarse) in methods {
         let few = render_file(path, &method_ov(w, h, method, cone, 16)).image;
-        let e_few = rel_mse(few.channel("Y").unwrap(), r);
+        let e_few = rel_mse(few.channel("XYZ.Y").unwrap(), r);
         let img = render_file(path, &method_ov(w, h, method, cone, 256));
-        let y = img.image.channel("Y").unwrap();
+        let y = img.image.channel("XYZ.Y").unwrap();
         let e = rel_mse(y, r);
         eprintln!("{}: {method} cone {cone:?}: relMSE {e_few:.5} -> {e:.5}", path.display());
         assert!(y.iter().all(|v| v.is_finite()));

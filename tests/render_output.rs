@@ -147,7 +147,9 @@ fn exr_file_has_the_layers_and_settings() {
         "R",
         "G",
         "B",
-        "Y",
+        "XYZ.X",
+        "XYZ.Y",
+        "XYZ.Z",
         "emission.R",
         "emission.G",
         "emission.B",
@@ -165,6 +167,8 @@ fn exr_file_has_the_layers_and_settings() {
     ] {
         assert!(names.contains(&n), "missing channel {n} in {names:?}");
     }
+    // the default layer is plain RGB (a top-level Y is read as alpha by OpenImageIO)
+    assert!(names.iter().filter(|n| !n.contains('.')).eq(["B", "G", "R"].iter()), "{names:?}");
     assert_eq!(back.meta("method"), Some("pt"));
     assert_eq!(back.meta("spp"), Some("2"));
     assert_eq!(back.meta("seed"), Some("9"));

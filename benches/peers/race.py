@@ -64,7 +64,7 @@ SCENES = [
 def read_y(path):
     with OpenEXR.File(path) as f:
         ch = f.channels()
-        y = ch["Y"].pixels.astype(np.float64)
+        y = ch["XYZ.Y" if "XYZ.Y" in ch else "Y"].pixels.astype(np.float64)
         se = ch["stderr.Y"].pixels.astype(np.float64) if "stderr.Y" in ch else np.zeros_like(y)
     return y, se
 

@@ -15,6 +15,7 @@ pub mod gltf;
 pub mod importer;
 pub mod names;
 pub mod obj;
+mod obj_keywords;
 mod obj_lint;
 mod obj_text;
 pub mod photometric;

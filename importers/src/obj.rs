@@ -229,7 +229,7 @@ pub fn import_obj(path: &Path, opts: &ImportOptions, materials: ObjMaterials) ->
     if summary.triangles == 0 {
         return Err(ImportError::new(ImportErrorKind::InvalidValue, ErrorPlace::file(path), "OBJ file has no faces"));
     }
-    let warnings = obj_lint::ignored_warnings(path, &summary);
+    let warnings = crate::obj_keywords::ignored_warnings(path, &summary.ignored);
 
     // Material libraries: name -> material (a later definition wins, as in tobj).
     let mut libs: Vec<MtlMaterial> = Vec::new();

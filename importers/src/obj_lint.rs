@@ -10,6 +10,7 @@ use std::io::{BufRead, Read};
 use std::path::Path;
 
 use crate::error::{ErrorPlace, ImportError, ImportErrorKind};
+use crate::obj_keywords::QUIET_KEYWORDS;
 use crate::obj_text::{strip_comment, strip_eol};
 
 /// Largest OBJ file accepted (bytes).
@@ -55,64 +56,6 @@ pub(crate) struct ObjSummary {
     /// curves and surfaces, points, lines, display attributes) and keywords it does not know.
     pub ignored: Vec<(usize, String)>,
 }
-
-/// OBJ keywords that are read (by the check and `tobj`) or deliberately ignored without a word:
-/// grouping, smoothing and merging groups, level of detail.
-const QUIET_KEYWORDS: [&str; 6] = ["o", "g", "s", "mg", "lod", "vp"];
-
-/// The warnings for the statements of `sum.ignored`: one per keyword, with its count and first
-/// line (``file:line: statement `hello` ignored (not an OBJ keyword; 3 such statements, the
-/// first here)``).
-pub(crate) fn ignored_warnings(file: &Path, sum: &ObjSummary) -> Vec<String> {
-    let mut seen: Vec<(&str, usize, usize)> = Vec::new();
-    for (line, kw) in &sum.ignored {
-        match seen.iter_mut().find(|(k, _, _)| k == kw) {
-            Some(e) => e.2 += 1,
-            None => seen.push((kw, *line, 1)),
-        }
-    }
-    seen.into_iter()
-        .map(|(kw, line, n)| {
-            let why = if SPEC_UNRENDERED.contains(&kw) {
-                "free-form geometry, points, lines and display attributes are not rendered"
-            } else {
-                "not an OBJ keyword"
-            };
-            let count = if n == 1 { String::new() } else { format!("; {n} such statements, the first here") };
-            format!("{}:{line}: statement `{kw}` ignored ({why}{count})", file.display())
-        })
-        .collect()
-}
-
-/// Keywords of the OBJ specification that quasar reads past: free-form geometry and its
-/// attributes, points and lines, display and render attributes.
-const SPEC_UNRENDERED: [&str; 25] = [
-    "p",
-    "cstype",
-    "deg",
-    "bmat",
-    "step",
-    "curv",
-    "curv2",
-    "surf",
-    "parm",
-    "trim",
-    "hole",
-    "scrv",
-    "sp",
-    "end",
-    "con",
-    "bevel",
-    "c_interp",
-    "d_interp",
-    "usemap",
-    "maplib",
-    "shadow_obj",
-    "trace_obj",
-    "ctech",
-    "stech",
-    "call",
-];
 
 fn syntax(file: &Path, line: usize, msg: impl Into<String>) -> ImportError {
     ImportError::new(ImportErrorKind::Syntax, ErrorPlace::line(file, line), msg)

@@ -72,6 +72,9 @@ impl Quantity {
     }
 }
 
+/// The channel of the beauty's luminance Y (CIE 1931, the sensor of docs/architecture.md §3).
+pub const LUMINANCE: &str = "XYZ.Y";
+
 /// Sum of XYZ per layer for one pixel, in f64 so long renders do not lose precision.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PixelSum {
@@ -220,19 +223,21 @@ impl Film {
         p.xyz[layer].map(|v| v / p.samples as f64)
     }
 
-    /// Output channels: beauty `R,G,B`, luminance `Y`, and `<layer>.R/G/B` for every layer.
+    /// Output channels: beauty `R,G,B` (the default layer, plain RGB), the beauty's CIE XYZ in
+    /// its own layer `XYZ.X/Y/Z` (`XYZ.Y` = [`LUMINANCE`]: a top-level `Y` is read as alpha by
+    /// OpenImageIO), and `<layer>.R/G/B` for every layer.
     /// Beauty is the sum of the emission, direct and indirect layers' RGB, so beauty = emission +
     /// direct + indirect exactly up to one float rounding per addition; `caustic` is the part of
     /// `indirect` that reached its diffuse vertex through specular events only.
     pub fn channels(&self) -> Vec<Channel> {
         let n = self.pixels.len();
         let mut beauty = [vec![0.0f32; n], vec![0.0f32; n], vec![0.0f32; n]];
-        let mut y = vec![0.0f32; n];
+        let mut xyz_out = [vec![0.0f32; n], vec![0.0f32; n], vec![0.0f32; n]];
         let mut layers: Vec<[Vec<f32>; 3]> =
             (0..N_LAYERS).map(|_| [vec![0.0; n], vec![0.0; n], vec![0.0; n]]).collect();
         for i in 0..n {
             let mut sum_rgb = [0.0f32; 3];
-            let mut sum_y = 0.0f32;
+            let mut sum_xyz = [0.0f32; 3];
             for (l, layer) in layers.iter_mut().enumerate() {
                 let xyz = self.mean_xyz(i, l).map(|v| v as f32);
                 let rgb = xyz_to_linear_srgb(xyz);
@@ -243,19 +248,23 @@ impl Film {
                     for k in 0..3 {
                         sum_rgb[k] += rgb[k];
                     }
-                    sum_y += xyz[1];
+                    for k in 0..3 {
+                        sum_xyz[k] += xyz[k];
+                    }
                 }
             }
             for k in 0..3 {
                 beauty[k][i] = sum_rgb[k];
+                xyz_out[k][i] = sum_xyz[k];
             }
-            y[i] = sum_y;
         }
         let mut out = Vec::new();
         for (k, c) in ["R", "G", "B"].iter().enumerate() {
             out.push(Channel { name: c.to_string(), values: std::mem::take(&mut beauty[k]) });
         }
-        out.push(Channel { name: "Y".into(), values: y });
+        for (k, values) in xyz_out.into_iter().enumerate() {
+            out.push(Channel { name: format!("XYZ.{}", ["X", "Y", "Z"][k]), values });
+        }
         for (l, layer) in layers.into_iter().enumerate() {
             for (k, values) in layer.into_iter().enumerate() {
                 out.push(Channel { name: format!("{}.{}", LAYER_NAMES[l], ["R", "G", "B"][k]), values });

@@ -3,6 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
+use exr::meta::attribute::Chromaticities;
 use exr::prelude::*;
 
 use crate::film::Channel;
@@ -17,7 +18,8 @@ pub struct ExrImage {
     /// Channels (any order; written sorted by name as EXR requires).
     pub channels: Vec<Channel>,
     /// Render metadata as ordered key/value pairs, stored in one text attribute `quasar` as
-    /// `key=value` lines (one attribute keeps the header byte-for-byte deterministic).
+    /// `key=value` lines (read back by [`read_exr`]) and each as a typed attribute
+    /// `quasar:key` for other tools (see [`typed_attribute`]).
     pub metadata: Vec<(String, String)>,
 }
 
@@ -46,6 +48,29 @@ impl ExrImage {
     }
 }
 
+/// The primaries and white point of the `R, G, B` channels: linear sRGB / Rec. 709 with D65
+/// (IEC 61966-2-1), as the standard `chromaticities` attribute.
+pub const SRGB_CHROMATICITIES: Chromaticities = Chromaticities {
+    red: Vec2(0.64, 0.33),
+    green: Vec2(0.30, 0.60),
+    blue: Vec2(0.15, 0.06),
+    white: Vec2(0.3127, 0.3290),
+};
+
+/// A metadata value as the EXR attribute other tools (Nuke, OpenImageIO, Blender) show typed:
+/// an integer that fits in i32 as `int`, another finite number as `float`, anything else
+/// (booleans, seeds beyond i32, lists) as `string`.
+pub fn typed_attribute(value: &str) -> AttributeValue {
+    if let Ok(i) = value.parse::<i32>() {
+        return AttributeValue::I32(i);
+    }
+    let integer = value.trim_start_matches('-').chars().all(|c| c.is_ascii_digit());
+    match value.parse::<f32>() {
+        Ok(f) if f.is_finite() && !integer => AttributeValue::F32(f),
+        _ => AttributeValue::Text(Text::from(value)),
+    }
+}
+
 /// Writes `img` to `path` via a temporary file and a rename, so `path` is either the old file or
 /// the complete new one, never a truncated file.
 pub fn write_exr_atomic(img: &ExrImage, path: &Path) -> std::result::Result<(), ExrError> {
@@ -69,8 +94,12 @@ pub fn write_exr_atomic(img: &ExrImage, path: &Path) -> std::result::Result<(), 
     };
     let meta: String = img.metadata.iter().map(|(k, v)| format!("{k}={v}\n")).collect();
     attrs.other.insert(Text::from("quasar"), AttributeValue::Text(Text::from(meta.as_str())));
+    for (k, v) in &img.metadata {
+        attrs.other.insert(Text::from(format!("quasar:{k}").as_str()), typed_attribute(v));
+    }
     let layer = Layer::new((img.width, img.height), attrs, Encoding::SMALL_LOSSLESS, AnyChannels::sort(channels));
-    let image = Image::from_layer(layer);
+    let mut image = Image::from_layer(layer);
+    image.attributes.chromaticities = Some(SRGB_CHROMATICITIES);
     super::write_atomic(path, |tmp| image.write().to_file(tmp).map_err(|e| e.to_string()))
         .map_err(|e| ExrError::Io { path: e.path, msg: e.msg })
 }
@@ -129,6 +158,17 @@ mod tests {
         assert_eq!(back.channel("R").unwrap(), &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
         assert_eq!(back.channel("direct.R").unwrap(), &[0.5; 6]);
         assert_eq!(back.meta("spp"), Some("4"));
+        // typed attributes and the standard chromaticities, as other tools read them
+        let raw = read().no_deep_data().largest_resolution_level().all_channels().first_valid_layer().all_attributes();
+        let raw = raw.from_file(&path).unwrap();
+        let other = &raw.layer_data.attributes.other;
+        assert_eq!(other.get(&Text::from("quasar:spp")), Some(&AttributeValue::I32(4)));
+        assert_eq!(other.get(&Text::from("quasar:method")), Some(&AttributeValue::Text(Text::from("pt"))));
+        assert_eq!(raw.attributes.chromaticities, Some(SRGB_CHROMATICITIES));
+        assert_eq!(typed_attribute("0.25"), AttributeValue::F32(0.25));
+        assert_eq!(typed_attribute("18446744073709551615"), AttributeValue::Text(Text::from("18446744073709551615")));
+        assert_eq!(typed_attribute("true"), AttributeValue::Text(Text::from("true")));
+        assert_eq!(typed_attribute("inf"), AttributeValue::Text(Text::from("inf")));
         // A failing write leaves the existing file untouched and no temporary behind.
         let before = std::fs::read(&path).unwrap();
         let mut bad = img.clone();

@@ -228,7 +228,10 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         ("width".into(), width.to_string()),
         ("height".into(), height.to_string()),
         ("wavelengths".into(), "hero, 4 per path, 360-830 nm, visible-importance pdf".into()),
-        ("units".into(), "XYZ normalised so a flat spectral radiance of 1 gives Y = 1".into()),
+        (
+            "units".into(),
+            "R,G,B: linear sRGB (D65); XYZ.*: CIE 1931 XYZ; both scaled so that a spectrally flat radiance of 1 gives Y = 1 (cd/m^2 = 72983 x Y with lights in absolute units)".into(),
+        ),
         ("partial".into(), result.interrupted.to_string()),
         ("shard".into(), format!("{}/{}", shard.0, shard.1)),
         ("rejected_samples".into(), result.film.rejected_samples().to_string()),
@@ -265,7 +268,7 @@ pub fn write_outputs_with_preview(
     if let Some(p) = preview {
         let img = &out.image;
         let get = |n: &str| img.channel(n).context("beauty channel missing");
-        let scale = exposure_scale(exposure, get("Y")?);
+        let scale = exposure_scale(exposure, get("XYZ.Y")?);
         write_preview_png(p, img.width as u32, img.height as u32, [get("R")?, get("G")?, get("B")?], scale, view)
             .map_err(|e| anyhow::anyhow!(e))?;
     }

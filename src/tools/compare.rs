@@ -8,7 +8,7 @@ use crate::output::ExrImage;
 /// Error metrics of one layer of an image against a reference.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LayerError {
-    /// Layer name ("" for the beauty channels R, G, B, Y; else e.g. "indirect").
+    /// Layer name ("" for the beauty channels R, G, B; else e.g. "indirect").
     pub layer: String,
     /// Root mean squared error over the layer's channels and pixels.
     pub rmse: f64,
@@ -140,8 +140,8 @@ fn false_colour(rel: f64, full_scale: f64) -> [u8; 3] {
 /// Writes a PNG of the per-pixel relative difference of luminance `Y` (image - reference) /
 /// (reference + 1e-3), in false colour saturating at +-100%.
 pub fn write_difference_png(img: &ExrImage, reference: &ExrImage, path: &Path) -> Result<(), String> {
-    let (Some(a), Some(r)) = (img.channel("Y"), reference.channel("Y")) else {
-        return Err("both images need a Y channel for the difference image".into());
+    let (Some(a), Some(r)) = (img.channel("XYZ.Y"), reference.channel("XYZ.Y")) else {
+        return Err("both images need an XYZ.Y channel for the difference image".into());
     };
     let mut buf = Vec::with_capacity(a.len() * 3);
     for (&a, &r) in a.iter().zip(r) {
@@ -172,7 +172,7 @@ mod tests {
         ExrImage {
             width: values.len(),
             height: 1,
-            channels: vec![ch("Y"), ch("R"), ch("direct.R"), ch("spp.Y")],
+            channels: vec![ch("XYZ.Y"), ch("R"), ch("direct.R"), ch("spp.Y")],
             metadata: vec![],
         }
     }
@@ -183,15 +183,15 @@ mod tests {
         let a = image(&[1.0, 3.0, 0.0, 2.0]);
         let e = compare(&a, &r, None).unwrap();
         let names: Vec<_> = e.iter().map(|l| l.layer.as_str()).collect();
-        assert_eq!(names, ["beauty", "direct"]);
-        let d = &e[1];
+        assert_eq!(names, ["XYZ", "beauty", "direct"]);
+        let d = &e[2];
         assert!((d.rmse - (5.0f64 / 4.0).sqrt()).abs() < 1e-12);
         assert!((d.rel_mse - (1.0 / (4.0 + REL_EPS) + 4.0 / (16.0 + REL_EPS)) / 4.0).abs() < 1e-12);
         assert_eq!(d.max_error, 2.0);
         assert_eq!(d.means, (1.5, 1.75));
         assert_eq!(compare(&r, &r, Some("direct")).unwrap()[0].rel_mse, 0.0);
         let err = compare(&r, &r, Some("caustic")).unwrap_err();
-        assert!(err.contains("the layers they share: beauty, direct"), "{err}");
+        assert!(err.contains("the layers they share: XYZ, beauty, direct"), "{err}");
         assert!(compare(&image(&[1.0]), &r, None).is_err());
     }
 }

@@ -84,8 +84,8 @@ pub fn merge(images: &[ExrImage]) -> Result<ExrImage, String> {
                 ));
             }
         }
-        if img.channel("spp.Y").is_none() || img.channel("Y").is_none() {
-            return Err(format!("image {i} has no spp.Y or Y channel (not a quasar render?)"));
+        if img.channel("spp.Y").is_none() || img.channel("XYZ.Y").is_none() {
+            return Err(format!("image {i} has no spp.Y or XYZ.Y channel (not a quasar render?)"));
         }
         for c in &first.channels {
             if img.channel(&c.name).is_none() {
@@ -111,7 +111,7 @@ pub fn merge(images: &[ExrImage]) -> Result<ExrImage, String> {
             })
             .collect()
     };
-    let mean_y = weighted("Y");
+    let mean_y = weighted("XYZ.Y");
     let mut channels = Vec::new();
     for c in &first.channels {
         let values: Vec<f32> = match c.name.as_str() {
@@ -122,7 +122,7 @@ pub fn merge(images: &[ExrImage]) -> Result<ExrImage, String> {
                     // per image: sum y^2 = (n - 1) n se^2 + n m^2
                     let mut sq = 0.0f64;
                     for (img, n) in images.iter().zip(&counts) {
-                        let (n, m) = (n[p] as f64, img.channel("Y").unwrap_or_default()[p] as f64);
+                        let (n, m) = (n[p] as f64, img.channel("XYZ.Y").unwrap_or_default()[p] as f64);
                         let se = img.channel("stderr.Y").unwrap_or_default()[p] as f64;
                         sq += (n - 1.0).max(0.0) * n * se * se + n * m * m;
                     }
@@ -134,7 +134,7 @@ pub fn merge(images: &[ExrImage]) -> Result<ExrImage, String> {
                     (var / nt).sqrt() as f32
                 })
                 .collect(),
-            "Y" => mean_y.iter().map(|&v| v as f32).collect(),
+            "XYZ.Y" => mean_y.iter().map(|&v| v as f32).collect(),
             name => match name.strip_prefix("stderr.block").and_then(|s| s.parse::<usize>().ok()) {
                 Some(size) if size > 0 => pooled_block_stderr(images, &counts, name, size),
                 _ => weighted(name).iter().map(|&v| v as f32).collect(),
@@ -171,7 +171,7 @@ fn pooled_block_stderr(images: &[ExrImage], counts: &[&[f32]], name: &str, size:
     let mut sum = vec![0.0f64; blocks];
     let mut sum_sq = vec![0.0f64; blocks];
     for (img, n) in images.iter().zip(counts) {
-        let (y, se) = (img.channel("Y").unwrap_or_default(), img.channel(name).unwrap_or_default());
+        let (y, se) = (img.channel("XYZ.Y").unwrap_or_default(), img.channel(name).unwrap_or_default());
         let mut mean = vec![(0.0f64, 0usize); blocks];
         for (p, &v) in y.iter().enumerate().take(w * h) {
             let b = (p / w / size) * cols + (p % w) / size;

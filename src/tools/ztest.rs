@@ -50,7 +50,7 @@ impl Estimate {
     /// The beauty luminance `Y` of an EXR written by quasar (or by the cross-check script) with
     /// its `stderr.Y` and, if present, `stderr.block<N>` channels.
     pub fn from_exr(img: &ExrImage) -> Result<Self, String> {
-        let y = img.channel("Y").ok_or("the image has no Y channel")?;
+        let y = img.channel("XYZ.Y").ok_or("the image has no XYZ.Y channel")?;
         let se = img.channel("stderr.Y").ok_or("the image has no stderr.Y channel")?;
         let mut block_var = BTreeMap::new();
         for c in &img.channels {

@@ -83,7 +83,7 @@ emission = {{ spectrum = {{ constant = 1.0 }}, scale = {le} }}
 /// Checks a furnace render: Y = Le / (1 - a) within 1%, and the layers emission = Le (1%),
 /// direct = a Le (2%) and indirect = a^2 Le / (1 - a) (3%).
 pub fn check_furnace(img: &quasar::output::ExrImage, a: f64, le: f64, label: &str) {
-    let y = mean(img.channel("Y").unwrap());
+    let y = mean(img.channel("XYZ.Y").unwrap());
     let e = mean(&layer_luminance(img, "emission"));
     let d = mean(&layer_luminance(img, "direct"));
     let i = mean(&layer_luminance(img, "indirect"));

@@ -4,7 +4,7 @@
 For every scene: `quasar export-mitsuba` writes it as a Mitsuba scene with quasar's conventions
 (or says why Mitsuba cannot express it: the scene is then reported as skipped, with the reason);
 Mitsuba renders it in `--batches` independent batches, whose per-pixel mean and standard error
-of Y are written as an EXR (`Y`, `stderr.Y`); quasar renders it with `pt`; and
+of Y are written as an EXR (`XYZ.Y`, `stderr.Y`, quasar's names); quasar renders it with `pt`; and
 `quasar compare --z-test` runs the block z-test of quasar's Y against Mitsuba's with both
 images' standard errors. Exit status 1 when a scene fails, 0 otherwise.
 
@@ -64,7 +64,7 @@ def render_mitsuba(xml, spp, batches):
 
 def write_exr(path, y, stderr):
     header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
-    OpenEXR.File(header, {"Y": y, "stderr.Y": stderr}).write(path)
+    OpenEXR.File(header, {"XYZ.Y": y, "stderr.Y": stderr}).write(path)
 
 
 def main():
