@@ -5,6 +5,8 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use quasar_importers::SceneDesc;
+use quasar_materials::spectrum::Spectrum;
+use quasar_materials::{ConductorFresnel, Ior, Material};
 
 use crate::core::scene::Scene;
 use crate::integrator::analysis::SceneAnalysis;
@@ -17,23 +19,123 @@ pub fn report(path: &Path, desc: &SceneDesc, compiled: &Scene) -> String {
     let _ = writeln!(s, "materials: {}", desc.materials.len());
     for m in &desc.materials {
         let tex = if m.textures.is_empty() { "" } else { " (textured)" };
-        let _ = writeln!(s, "  {}: {:?}{tex}", m.name, m.material);
+        let _ = writeln!(s, "  {}: {}{tex}", m.name, describe_material(&m.material));
     }
     if !desc.textures.is_empty() {
         let t: Vec<String> = desc.textures.iter().map(|t| format!("{} {}x{}", t.name, t.width, t.height)).collect();
         let _ = writeln!(s, "textures: {}", t.join(", "));
     }
-    if !desc.cameras.is_empty() {
-        let c: Vec<&str> = desc.cameras.iter().map(|c| c.name.as_str()).collect();
-        let _ =
-            writeln!(s, "cameras in the file: {} (the scene camera looks from {})", c.join(", "), desc.camera.position);
-    }
+    let c = &desc.camera;
+    let axis = match c.fov_axis {
+        quasar_importers::FovAxis::X => "horizontal",
+        quasar_importers::FovAxis::Y => "vertical",
+    };
     let _ = writeln!(
         s,
-        "lights: {} ({} emissive triangles)",
-        compiled.lights.len(),
-        compiled.lights.len() - desc.lights.len()
+        "camera: from {} towards {}, {}° {axis} field of view",
+        vec3(c.position),
+        vec3(c.target),
+        num(c.fov_deg)
     );
-    let _ = writeln!(s, "bounding sphere: centre {:?}, radius {}", compiled.center, compiled.radius);
+    if !desc.cameras.is_empty() {
+        let names: Vec<&str> = desc.cameras.iter().map(|c| c.name.as_str()).collect();
+        let _ = writeln!(s, "cameras in the file: {}", names.join(", "));
+    }
+    let _ = writeln!(s, "bounding sphere: centre {}, radius {}", vec3(compiled.center), compiled.radius);
     s + &SceneAnalysis::of(compiled).report()
+}
+
+/// A number with at most 4 significant digits after trimming (`0.5`, `480.4`, `1.5e-05`).
+fn num(v: f32) -> String {
+    if v == 0.0 || (1e-3..1e5).contains(&v.abs()) {
+        let digits = (3 - v.abs().max(1e-3).log10().floor() as i32).clamp(0, 6) as usize;
+        let t = format!("{v:.digits$}");
+        if t.contains('.') { t.trim_end_matches('0').trim_end_matches('.').to_string() } else { t }
+    } else {
+        format!("{v:.3e}")
+    }
+}
+
+/// A point as `(x, y, z)` with [`num`]'s digits.
+fn vec3(v: glam::Vec3) -> String {
+    format!("({}, {}, {})", num(v.x), num(v.y), num(v.z))
+}
+
+/// One line on a spectral curve: `0.8`, `table 400-700 nm, 76 points, mean 0.71`,
+/// `RGB (0.63, 0.065, 0.05)`, `blackbody 2700 K`, `CIE D65`.
+pub fn describe_spectrum(s: &Spectrum) -> String {
+    match s {
+        Spectrum::Constant(v) => num(*v),
+        Spectrum::PiecewiseLinear { lambda, values } => {
+            let mean = values.iter().map(|&v| f64::from(v)).sum::<f64>() / values.len().max(1) as f64;
+            format!(
+                "table {}-{} nm, {} points, mean {}",
+                num(lambda[0]),
+                num(*lambda.last().unwrap_or(&lambda[0])),
+                values.len(),
+                num(mean as f32)
+            )
+        }
+        Spectrum::Blackbody { kelvin, .. } => format!("blackbody {} K", num(*kelvin)),
+        Spectrum::Illuminant { illuminant, .. } => format!("CIE {illuminant:?}"),
+        Spectrum::RgbReflectance(r) => format!("RGB ({}, {}, {})", num(r.rgb[0]), num(r.rgb[1]), num(r.rgb[2])),
+        Spectrum::RgbIlluminant { rgb, .. } => format!("RGB light ({}, {}, {})", num(rgb[0]), num(rgb[1]), num(rgb[2])),
+    }
+}
+
+/// One line on a material: its model and key parameters
+/// (`diffuse, reflectance table 400-700 nm, 76 points, mean 0.71, two-sided`).
+pub fn describe_material(m: &Material) -> String {
+    let sided = |two: bool| if two { ", two-sided" } else { "" };
+    let roughness = |alpha: f32| if alpha == 0.0 { "smooth".to_string() } else { format!("GGX alpha {}", num(alpha)) };
+    match m {
+        Material::Diffuse { reflectance, two_sided } => {
+            format!("diffuse, reflectance {}{}", describe_spectrum(reflectance), sided(*two_sided))
+        }
+        Material::Conductor { alpha, fresnel, two_sided } => {
+            let f = match fresnel {
+                ConductorFresnel::Constant(r) => format!("reflectance {}", describe_spectrum(r)),
+                ConductorFresnel::Complex { eta, k } => {
+                    format!("eta {}, k {}", describe_spectrum(eta), describe_spectrum(k))
+                }
+            };
+            format!("conductor, {}, {f}{}", roughness(*alpha), sided(*two_sided))
+        }
+        Material::Dielectric { ior, alpha } => {
+            let n = match ior {
+                Ior::Constant(n) => format!("ior {}", num(*n)),
+                Ior::Cauchy { a, b } => format!("ior Cauchy a {} b {} um^2", num(*a), num(*b)),
+                Ior::Sellmeier { .. } => "ior Sellmeier".to_string(),
+            };
+            format!("dielectric, {}, {n}", roughness(*alpha))
+        }
+        Material::Tabulated(t) => {
+            let spec = t.spec();
+            format!(
+                "tabulated BSDF `{}`, {} wavelengths, {} x {} incidences",
+                spec.name,
+                spec.wavelengths.len(),
+                spec.theta_i.len(),
+                spec.phi_i.len()
+            )
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn materials_and_spectra_read_as_one_line() {
+        let table = Spectrum::piecewise_linear(vec![400.0, 550.0, 700.0], vec![0.5, 0.7, 0.9]).unwrap();
+        assert_eq!(describe_spectrum(&table), "table 400-700 nm, 3 points, mean 0.7");
+        let m = Material::Diffuse { reflectance: table, two_sided: true };
+        assert_eq!(describe_material(&m), "diffuse, reflectance table 400-700 nm, 3 points, mean 0.7, two-sided");
+        let g = Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.05 };
+        assert_eq!(describe_material(&g), "dielectric, GGX alpha 0.05, ior 1.5");
+        assert_eq!(num(480.3702), "480.4");
+        assert_eq!(num(0.0), "0");
+        assert_eq!(num(2.5e-6), "2.500e-6");
+    }
 }
