@@ -27,6 +27,7 @@ pub mod texture_desc;
 pub mod toml_reader;
 pub mod toml_scene;
 mod transform;
+pub mod usd;
 
 pub use error::{ErrorPlace, ImportError, ImportErrorKind, did_you_mean};
 pub use glob::glob_match;
@@ -38,3 +39,4 @@ pub use registry::{IMPORTERS, formats, import_scene, importer_for, parse_toml_sc
 pub use scene_desc::*;
 pub use small_text::MAX_SMALL_FILE_BYTES;
 pub use toml_scene::TomlSceneImporter;
+pub use usd::{UsdImporter, import_usd};

@@ -10,9 +10,10 @@ use crate::importer::{Formats, ImportOptions, Importer};
 use crate::obj::ObjImporter;
 use crate::scene_desc::SceneDesc;
 use crate::toml_scene::{self, TomlSceneImporter};
+use crate::usd::UsdImporter;
 
 /// The table of importers, searched in order by [`importer_for`].
-pub static IMPORTERS: &[&dyn Importer] = &[&TomlSceneImporter, &ObjImporter, &GltfImporter];
+pub static IMPORTERS: &[&dyn Importer] = &[&TomlSceneImporter, &ObjImporter, &GltfImporter, &UsdImporter];
 
 /// Every format of [`IMPORTERS`].
 pub fn formats() -> Formats<'static> {

@@ -1,0 +1,272 @@
+//! UsdLux -> quasar lights. Every light's luminance is L_v = `intensity` x 2^`exposure` in nits
+//! (cd/m², UsdLux's unit; `DistantLight`: illuminance in lux), times `color` (linear sRGB, a
+//! light colour whose luminance scales it), or a blackbody of `colorTemperature` kelvin when
+//! `enableColorTemperature` is set; photometric values become radiometric scales as in glTF
+//! ([`crate::photometric`]). Schema defaults (checked against Pixar's usd-core 26.11, which the
+//! `openusd` crate does not supply): `intensity` 1 (`DistantLight` 50000), `exposure` 0, `color`
+//! white, `normalize` false, `radius` 0.5, `width`/`height`/`length` 1, `angle` 0.53,
+//! `shaping:cone:angle` 90, `shaping:cone:softness` 0.
+//!
+//! | UsdLux | quasar |
+//! |---|---|
+//! | `RectLight` (width along X, height along Y, emits towards -Z) | one-sided emissive quad |
+//! | `DiskLight` (radius, emits towards -Z) | one-sided emissive disk (64 segments) |
+//! | `SphereLight` | emissive sphere (32 x 16), outward; `treatAsPoint`: point light of intensity L_v π r² (the sphere's far field); with `ShapingAPI` cone: spot light (cone angle, falloff from angle x (1 - softness)) |
+//! | `CylinderLight` (length along X, radius) | emissive cylinder side, outward |
+//! | `DistantLight` (towards -Z) | directional light of illuminance L_v lux (`angle` ignored: a delta light; warned above 2°) |
+//! | `DomeLight` | constant environment of luminance L_v (a `texture:file` is not read yet: warning) |
+//!
+//! `normalize = true` divides an area light's luminance by its world-space area (the power no
+//! longer depends on the size). `GeometryLight` and `PortalLight` are not supported (warning).
+
+use glam::{Affine3A, Vec3};
+use openusd::usd::Prim;
+use quasar_materials::spectrum::Spectrum;
+
+use super::value::{self, AttrError};
+use crate::photometric::photometric_scale;
+use crate::scene_desc::{EmissionDesc, LightDesc, MeshDesc};
+use crate::transform::transform_mesh;
+
+/// What a UsdLux prim becomes.
+pub(super) enum UsdLight {
+    /// A light without a surface.
+    Light(LightDesc),
+    /// An emissive mesh (world space; the caller gives it the black light material).
+    Mesh(MeshDesc),
+    /// Not rendered, with the reason.
+    Skipped(String),
+}
+
+/// The UsdLux light types this module reads or names as unsupported.
+pub(super) const LIGHT_TYPES: [&str; 8] = [
+    "RectLight",
+    "DiskLight",
+    "SphereLight",
+    "CylinderLight",
+    "DistantLight",
+    "DomeLight",
+    "GeometryLight",
+    "PortalLight",
+];
+
+/// A light input: `inputs:<name>` (UsdLux since 21.02), else the older bare `<name>`.
+fn input(prim: &Prim, name: &str) -> Result<Option<f64>, AttrError> {
+    match value::scalar(prim, &format!("inputs:{name}"))? {
+        Some(v) => Ok(Some(v)),
+        None => value::scalar(prim, name),
+    }
+}
+
+fn input_bool(prim: &Prim, name: &str) -> Result<Option<bool>, AttrError> {
+    match value::boolean(prim, &format!("inputs:{name}"))? {
+        Some(v) => Ok(Some(v)),
+        None => value::boolean(prim, name),
+    }
+}
+
+/// Luminance (nits, or lux for a distant light) and spectral shape of `prim`.
+fn emission(prim: &Prim, default_intensity: f64) -> Result<(f64, Spectrum, Vec<String>), AttrError> {
+    let intensity = input(prim, "intensity")?.unwrap_or(default_intensity);
+    let exposure = input(prim, "exposure")?.unwrap_or(0.0);
+    let color = match value::vec3(prim, "inputs:color")? {
+        Some(c) => Some(c),
+        None => value::vec3(prim, "color")?,
+    }
+    .unwrap_or(Vec3::ONE);
+    let lv = intensity * 2f64.powf(exposure);
+    if !(lv.is_finite() && lv >= 0.0 && color.is_finite() && color.min_element() >= 0.0) {
+        return Err((
+            "inputs:intensity".into(),
+            format!("intensity {intensity} x 2^{exposure} with colour {color} is not a light"),
+        ));
+    }
+    let mut notes = Vec::new();
+    let spectrum = if input_bool(prim, "enableColorTemperature")?.unwrap_or(false) {
+        let k = input(prim, "colorTemperature")?.unwrap_or(6500.0) as f32;
+        let luminance = 0.2126 * color.x + 0.7152 * color.y + 0.0722 * color.z;
+        if (color - Vec3::ONE).abs().max_element() > 1e-6 {
+            notes.push("the colour multiplies the colour temperature's blackbody by its luminance only".to_string());
+        }
+        let bb = Spectrum::blackbody(k).map_err(|e| ("inputs:colorTemperature".into(), e.to_string()))?;
+        return Ok((lv * f64::from(luminance), bb, notes));
+    } else {
+        Spectrum::rgb_illuminant(color.to_array()).map_err(|e| ("inputs:color".into(), e.to_string()))?
+    };
+    Ok((lv, spectrum, notes))
+}
+
+/// A mesh of `positions` and `indices` in the light's local space, emitting `scale x spectrum`.
+fn local_mesh(name: &str, positions: Vec<Vec3>, indices: Vec<[u32; 3]>, spectrum: Spectrum, scale: f32) -> MeshDesc {
+    MeshDesc {
+        name: name.to_string(),
+        positions,
+        normals: None,
+        uvs: None,
+        indices,
+        material: 0,
+        emission: Some(EmissionDesc { spectrum, scale, two_sided: false }),
+        source: Default::default(),
+    }
+}
+
+/// Sum of the triangle areas of `m`.
+fn area(m: &MeshDesc) -> f64 {
+    m.indices
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| m.positions[i as usize]);
+            0.5 * f64::from((b - a).cross(c - a).length())
+        })
+        .sum()
+}
+
+/// A disk of `radius` in z = 0 facing -Z, as a fan of `segments` triangles.
+fn disk(radius: f32, segments: u32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+    let mut p = vec![Vec3::ZERO];
+    for k in 0..segments {
+        // clockwise seen from +Z: the triangles face -Z
+        let a = -(k as f32) * std::f32::consts::TAU / segments as f32;
+        p.push(Vec3::new(radius * a.cos(), radius * a.sin(), 0.0));
+    }
+    let t = (0..segments).map(|k| [0, 1 + k, 1 + (k + 1) % segments]).collect();
+    (p, t)
+}
+
+/// A UV sphere of `radius` facing outwards.
+fn sphere(radius: f32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+    let (nu, nv) = (32u32, 16u32);
+    let mut p = Vec::new();
+    for j in 0..=nv {
+        let theta = std::f32::consts::PI * j as f32 / nv as f32;
+        for i in 0..nu {
+            let phi = std::f32::consts::TAU * i as f32 / nu as f32;
+            p.push(radius * Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin()));
+        }
+    }
+    let mut t = Vec::new();
+    for j in 0..nv {
+        for i in 0..nu {
+            let (a, b) = (j * nu + i, j * nu + (i + 1) % nu);
+            let (c, d) = (a + nu, b + nu);
+            t.push([a, b, c]);
+            t.push([b, d, c]);
+        }
+    }
+    (p, t)
+}
+
+/// A cylinder side of `radius` and `length` along X facing outwards.
+fn cylinder(radius: f32, length: f32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+    let n = 32u32;
+    let mut p = Vec::new();
+    for x in [-0.5 * length, 0.5 * length] {
+        for i in 0..n {
+            let a = std::f32::consts::TAU * i as f32 / n as f32;
+            p.push(Vec3::new(x, radius * a.cos(), radius * a.sin()));
+        }
+    }
+    let mut t = Vec::new();
+    for i in 0..n {
+        let (a, b) = (i, (i + 1) % n);
+        t.push([a, a + n, b]);
+        t.push([b, a + n, b + n]);
+    }
+    (p, t)
+}
+
+/// The light of the UsdLux prim `prim` of type `ty` with local-to-world transform `world`, and
+/// notes for warnings.
+pub(super) fn read_light(prim: &Prim, ty: &str, world: &Affine3A) -> Result<(UsdLight, Vec<String>), AttrError> {
+    let name = prim.path().as_str().to_string();
+    let size = |n: &str, default: f64| -> Result<f32, AttrError> {
+        let v = input(prim, n)?.unwrap_or(default);
+        if v.is_finite() && v >= 0.0 {
+            Ok(v as f32)
+        } else {
+            Err((format!("inputs:{n}"), format!("{v} is not a size")))
+        }
+    };
+    let default_intensity = if ty == "DistantLight" { 50000.0 } else { 1.0 };
+    if matches!(ty, "GeometryLight" | "PortalLight") {
+        return Ok((UsdLight::Skipped(format!("{ty} is not supported")), Vec::new()));
+    }
+    let (lv, spectrum, mut notes) = emission(prim, default_intensity)?;
+    let normalize = input_bool(prim, "normalize")?.unwrap_or(false);
+    let origin = world.transform_point3(Vec3::ZERO);
+    let down = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
+    let scale = photometric_scale(lv as f32);
+    let area_light = |(positions, indices): (Vec<Vec3>, Vec<[u32; 3]>)| {
+        let mut m = local_mesh(&name, positions, indices, spectrum.clone(), scale);
+        transform_mesh(&mut m, world);
+        if normalize {
+            let a = area(&m);
+            if let Some(e) = &mut m.emission
+                && a > 0.0
+            {
+                e.scale = (f64::from(e.scale) / a) as f32;
+            }
+        }
+        UsdLight::Mesh(m)
+    };
+    let light = match ty {
+        "RectLight" => {
+            let (w, h) = (0.5 * size("width", 1.0)?, 0.5 * size("height", 1.0)?);
+            let p = vec![Vec3::new(-w, -h, 0.0), Vec3::new(-w, h, 0.0), Vec3::new(w, h, 0.0), Vec3::new(w, -h, 0.0)];
+            area_light((p, vec![[0, 1, 2], [0, 2, 3]]))
+        }
+        "DiskLight" => area_light(disk(size("radius", 0.5)?, 64)),
+        "CylinderLight" => {
+            if value::boolean(prim, "treatAsLine")?.unwrap_or(false) {
+                notes.push("treatAsLine is ignored: the cylinder is rendered".into());
+            }
+            area_light(cylinder(size("radius", 0.5)?, size("length", 1.0)?))
+        }
+        "SphereLight" => {
+            let r = size("radius", 0.5)?;
+            if value::boolean(prim, "treatAsPoint")?.unwrap_or(false) {
+                // the sphere's radius in world units: the mean of the transform's axis scales
+                let s = (world.matrix3.x_axis.length() + world.matrix3.y_axis.length() + world.matrix3.z_axis.length())
+                    / 3.0;
+                let rw = r * s;
+                let intensity = if rw > 0.0 { scale * std::f32::consts::PI * rw * rw } else { scale };
+                let cone =
+                    value::scalar(prim, "inputs:shaping:cone:angle")?.or(value::scalar(prim, "shaping:cone:angle")?);
+                match cone {
+                    Some(angle) if angle < 90.0 => {
+                        let soft = value::scalar(prim, "inputs:shaping:cone:softness")?.unwrap_or(0.0).clamp(0.0, 1.0);
+                        let cone_deg = angle.clamp(0.0, 90.0) as f32;
+                        UsdLight::Light(LightDesc::Spot {
+                            position: origin,
+                            direction: down,
+                            cone_deg,
+                            falloff_start_deg: cone_deg * (1.0 - soft as f32),
+                            spectrum,
+                            scale: intensity,
+                        })
+                    }
+                    _ => UsdLight::Light(LightDesc::Point { position: origin, spectrum, scale: intensity }),
+                }
+            } else {
+                area_light(sphere(r))
+            }
+        }
+        "DistantLight" => {
+            let angle = input(prim, "angle")?.unwrap_or(0.53);
+            if angle > 2.0 {
+                notes.push(format!("angle {angle}° is ignored: the light is a delta (directional) light"));
+            }
+            UsdLight::Light(LightDesc::Directional { direction: down, spectrum, scale })
+        }
+        "DomeLight" => {
+            if value::raw(prim, "inputs:texture:file")?.is_some() || value::raw(prim, "texture:file")?.is_some() {
+                notes.push(
+                    "texture:file is not read yet: a constant environment of the light's luminance is used".into(),
+                );
+            }
+            UsdLight::Light(LightDesc::Environment { spectrum, scale, map: None })
+        }
+        other => UsdLight::Skipped(format!("{other} is not a light type quasar reads")),
+    };
+    Ok((light, notes))
+}

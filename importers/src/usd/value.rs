@@ -1,0 +1,122 @@
+//! Reading USD attribute values of any precision (half, float, double; scalars, vectors,
+//! arrays) into the f32/glam types the importer works in, naming the prim and attribute when a
+//! value has the wrong type.
+
+use glam::{Vec2, Vec3};
+use openusd::sdf::Value;
+use openusd::usd::{Prim, TimeCode};
+
+/// A problem with one attribute: `(attribute name, what is wrong)`.
+pub(super) type AttrError = (String, String);
+
+/// The composed value of `prim`'s attribute `name` at the earliest time sample (or its default
+/// when it has no time samples); None when nothing authored it.
+pub(super) fn raw(prim: &Prim, name: &str) -> Result<Option<Value>, AttrError> {
+    let attr = prim.attribute(name);
+    let v = attr.get_at::<Value>(TimeCode::EARLIEST).map_err(|e| (name.to_string(), format!("{e:#}")))?;
+    Ok(match v {
+        Some(v) => Some(v),
+        None => attr.get::<Value>().map_err(|e| (name.to_string(), format!("{e:#}")))?,
+    })
+}
+
+fn wrong(name: &str, want: &str, v: &Value) -> AttrError {
+    let got = format!("{v:?}");
+    let got: String = got.chars().take(60).collect();
+    (name.to_string(), format!("expected {want}, got {got}"))
+}
+
+/// A scalar number (`float`, `double`, `half`, `int`).
+pub(super) fn scalar(prim: &Prim, name: &str) -> Result<Option<f64>, AttrError> {
+    Ok(match raw(prim, name)? {
+        None => None,
+        Some(Value::Float(f)) => Some(f64::from(f)),
+        Some(Value::Double(d)) => Some(d),
+        Some(Value::Half(h)) => Some(f64::from(f32::from(h))),
+        Some(Value::Int(i)) => Some(f64::from(i)),
+        Some(v) => return Err(wrong(name, "a number", &v)),
+    })
+}
+
+/// A boolean.
+pub(super) fn boolean(prim: &Prim, name: &str) -> Result<Option<bool>, AttrError> {
+    Ok(match raw(prim, name)? {
+        None => None,
+        Some(Value::Bool(b)) => Some(b),
+        Some(v) => return Err(wrong(name, "a bool", &v)),
+    })
+}
+
+/// A token or string.
+pub(super) fn token(prim: &Prim, name: &str) -> Result<Option<String>, AttrError> {
+    Ok(match raw(prim, name)? {
+        None => None,
+        Some(Value::Token(t)) => Some(t.as_str().to_string()),
+        Some(Value::String(s)) => Some(s),
+        Some(v) => return Err(wrong(name, "a token", &v)),
+    })
+}
+
+/// A 3-vector (`float3`, `double3`, `half3`, `color3f`, `point3f`, ...).
+pub(super) fn vec3(prim: &Prim, name: &str) -> Result<Option<Vec3>, AttrError> {
+    Ok(match raw(prim, name)? {
+        None => None,
+        Some(v) => Some(vec3_of(&v).ok_or_else(|| wrong(name, "a 3-vector", &v))?),
+    })
+}
+
+fn vec3_of(v: &Value) -> Option<Vec3> {
+    Some(match v {
+        Value::Vec3f(a) => Vec3::new(a[0], a[1], a[2]),
+        Value::Vec3d(a) => Vec3::new(a[0] as f32, a[1] as f32, a[2] as f32),
+        Value::Vec3h(a) => Vec3::new(f32::from(a[0]), f32::from(a[1]), f32::from(a[2])),
+        _ => return None,
+    })
+}
+
+/// An array of 3-vectors (`point3f[]`, `normal3f[]`, `double3[]`, ...).
+pub(super) fn vec3_array(prim: &Prim, name: &str) -> Result<Option<Vec<Vec3>>, AttrError> {
+    Ok(match raw(prim, name)? {
+        None => None,
+        Some(Value::Vec3fVec(a)) => Some(a.iter().map(|v| Vec3::new(v[0], v[1], v[2])).collect()),
+        Some(Value::Vec3dVec(a)) => Some(a.iter().map(|v| Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32)).collect()),
+        Some(Value::Vec3hVec(a)) => {
+            Some(a.iter().map(|v| Vec3::new(f32::from(v[0]), f32::from(v[1]), f32::from(v[2]))).collect())
+        }
+        Some(v) => return Err(wrong(name, "an array of 3-vectors", &v)),
+    })
+}
+
+/// An array of 2-vectors (`texCoord2f[]`, `float2[]`, ...).
+pub(super) fn vec2_array(prim: &Prim, name: &str) -> Result<Option<Vec<Vec2>>, AttrError> {
+    Ok(match raw(prim, name)? {
+        None => None,
+        Some(Value::Vec2fVec(a)) => Some(a.iter().map(|v| Vec2::new(v[0], v[1])).collect()),
+        Some(Value::Vec2dVec(a)) => Some(a.iter().map(|v| Vec2::new(v[0] as f32, v[1] as f32)).collect()),
+        Some(Value::Vec2hVec(a)) => Some(a.iter().map(|v| Vec2::new(f32::from(v[0]), f32::from(v[1]))).collect()),
+        Some(v) => return Err(wrong(name, "an array of 2-vectors", &v)),
+    })
+}
+
+/// An array of integers (`int[]`).
+pub(super) fn int_array(prim: &Prim, name: &str) -> Result<Option<Vec<i32>>, AttrError> {
+    Ok(match raw(prim, name)? {
+        None => None,
+        Some(Value::IntVec(a)) => Some(a),
+        Some(v) => return Err(wrong(name, "an int array", &v)),
+    })
+}
+
+/// The `interpolation` metadata of a primvar-like attribute (`vertex` when unauthored).
+pub(super) fn interpolation(prim: &Prim, name: &str) -> String {
+    prim.attribute(name)
+        .get_metadata::<Value>("interpolation")
+        .ok()
+        .flatten()
+        .and_then(|v| match v {
+            Value::Token(t) => Some(t.as_str().to_string()),
+            Value::String(s) => Some(s),
+            _ => None,
+        })
+        .unwrap_or_else(|| "vertex".to_string())
+}
