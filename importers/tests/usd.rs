@@ -205,3 +205,28 @@ fn bad_files_name_the_file_and_the_prim() {
     let empty = write("empty.usda", "#usda 1.0\ndef Xform \"X\" {\n}\n");
     assert!(import_scene(&empty, &ImportOptions::default()).unwrap_err().to_string().contains("no Mesh"));
 }
+
+/// A TOML scene includes a USD stage like a glTF file: `[[override]]` matches the prim path,
+/// `[camera] name` picks a USD camera by its prim path.
+#[test]
+fn toml_scenes_include_usd_with_overrides_and_cameras() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("s.toml");
+    let usd = fixture("scene.usda");
+    std::fs::write(
+        &scene,
+        format!(
+            "[camera]\nname = \"/World/Cam\"\n[materials.copper]\ntype = \"conductor\"\nmetal = \"Cu\"\n\
+             [[include]]\nfile = {:?}\n[[override]]\nmatch = \"/World/Qu*\"\nmaterial = \"copper\"\n",
+            usd.display().to_string()
+        ),
+    )
+    .unwrap();
+    let opts = ImportOptions { allow_external_paths: true, ..Default::default() };
+    let s = import_scene(&scene, &opts).unwrap_or_else(|e| panic!("{e}"));
+    let quad = s.meshes.iter().find(|m| m.name.ends_with("/World/Quad")).expect("the quad");
+    assert_eq!(s.materials[quad.material].name, "copper");
+    let holed = s.meshes.iter().find(|m| m.name.ends_with("/World/Holed")).unwrap();
+    assert_ne!(s.materials[holed.material].name, "copper");
+    assert!((s.camera.position - Vec3::new(21.0, 2.0, 3.0)).length() < 1e-4, "{:?}", s.camera);
+}
