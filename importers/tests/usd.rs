@@ -43,17 +43,32 @@ fn mesh<'a>(s: &'a SceneDesc, prim: &str) -> &'a MeshDesc {
 }
 
 /// Every mesh Pixar renders is imported with its world points (as a set: unwelded meshes
-/// repeat them) and triangle count, and nothing else.
+/// repeat them), triangle count and bound material (the material prim's path, as Pixar's
+/// `ComputeBoundMaterial` gives it), and nothing else; a `materialBind` GeomSubset is a mesh of
+/// its own, named by its prim path, with its triangles and material.
 fn check_meshes(s: &SceneDesc, exp: &Value) {
     let z_up = exp["up_axis"] == "Z";
     let mpu = exp["meters_per_unit"].as_f64().unwrap() as f32;
     let want = exp["meshes"].as_object().unwrap();
-    let geometry: Vec<&MeshDesc> =
-        s.meshes.iter().filter(|m| m.emission.is_none() || want.contains_key(&m.name)).collect();
-    assert_eq!(geometry.len(), want.len(), "{:?}", s.meshes.iter().map(|m| &m.name).collect::<Vec<_>>());
+    let material_of = |m: &MeshDesc| s.materials[m.material].source.item.clone().unwrap_or_default();
+    let mut expected_parts = 0;
     for (prim, w) in want {
+        let mut rest = w["triangles"].as_u64().unwrap();
+        let subsets = w.get("subsets").and_then(Value::as_object).cloned().unwrap_or_default();
+        for (sub, sw) in &subsets {
+            let part = mesh(s, sub);
+            let n = sw["triangles"].as_u64().unwrap();
+            assert_eq!(part.indices.len() as u64, n, "{sub}");
+            assert_eq!(material_of(part), sw["material"].as_str().unwrap(), "{sub}");
+            rest -= n;
+            expected_parts += 1;
+        }
         let m = mesh(s, prim);
-        assert_eq!(m.indices.len() as u64, w["triangles"].as_u64().unwrap(), "{prim}");
+        expected_parts += 1;
+        assert_eq!(m.indices.len() as u64, rest, "{prim}");
+        if let Some(mat) = w["material"].as_str().filter(|m| !m.is_empty()) {
+            assert_eq!(material_of(m), mat, "{prim}");
+        }
         let pts: Vec<Vec3> =
             w["world_points"].as_array().unwrap().iter().map(|p| to_quasar(v3(p), z_up, mpu)).collect();
         let tol = 1e-5 * pts.iter().map(|p| p.length()).fold(1.0, f32::max);
@@ -64,6 +79,8 @@ fn check_meshes(s: &SceneDesc, exp: &Value) {
             assert!(m.positions.iter().any(|p| (*p - *q).length() < tol), "{prim}: Pixar's point {q} is missing");
         }
     }
+    let geometry = s.meshes.iter().filter(|m| m.emission.is_none() || want.contains_key(&m.name)).count();
+    assert_eq!(geometry, expected_parts, "{:?}", s.meshes.iter().map(|m| &m.name).collect::<Vec<_>>());
 }
 
 #[test]

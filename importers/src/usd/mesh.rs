@@ -3,7 +3,8 @@
 //! `primvars:normals` and `primvars:st` with `vertex`, `varying`, `faceVarying`, `uniform` and
 //! `constant` interpolation (and `:indices` for indexed primvars). A mesh whose normals or uvs
 //! are not per point is unwelded: one vertex per face corner. `subdivisionScheme` other than
-//! `none` renders the control cage (the caller warns once).
+//! `none` renders the control cage (the caller warns once). `GeomSubset`s of family
+//! `materialBind` split the mesh by face ([`split_by_subsets`]).
 
 use glam::{Vec2, Vec3};
 use openusd::usd::Prim;
@@ -17,6 +18,8 @@ pub(super) struct LocalMesh {
     pub mesh: MeshDesc,
     /// `subdivisionScheme` (schema default `catmullClark`).
     pub subdivision: String,
+    /// The USD face each triangle of `mesh.indices` came from (for `GeomSubset`s).
+    pub faces: Vec<u32>,
 }
 
 /// Per-corner values of a primvar-like attribute of `interpolation` with `values` (and optional
@@ -108,6 +111,7 @@ pub(super) fn read_mesh(prim: &Prim, name: String) -> Result<LocalMesh, AttrErro
         }
     }
     let mut indices: Vec<[u32; 3]> = Vec::new();
+    let mut faces: Vec<u32> = Vec::new();
     let mut corner = 0usize;
     for (face, &count) in counts.iter().enumerate() {
         let count = count as usize;
@@ -139,6 +143,7 @@ pub(super) fn read_mesh(prim: &Prim, name: String) -> Result<LocalMesh, AttrErro
         for k in 1..count - 1 {
             let t = [face_corners[0], face_corners[k], face_corners[k + 1]];
             indices.push(if left_handed { [t[0], t[2], t[1]] } else { t });
+            faces.push(face as u32);
         }
     }
     let mesh = MeshDesc {
@@ -154,5 +159,52 @@ pub(super) fn read_mesh(prim: &Prim, name: String) -> Result<LocalMesh, AttrErro
     if mesh.positions.len() > u32::MAX as usize {
         return Err(("points".into(), "more than 2^32 vertices".into()));
     }
-    Ok(LocalMesh { mesh, subdivision })
+    Ok(LocalMesh { mesh, subdivision, faces })
+}
+
+/// The face sets of `mesh`'s `GeomSubset` children of family `materialBind` (or without a family)
+/// and element type `face`: (subset prim, its face indices), in namespace order.
+pub(super) fn material_subsets(mesh: &Prim) -> Result<Vec<(Prim, Vec<i32>)>, AttrError> {
+    let mut out = Vec::new();
+    for child in mesh.children().map_err(|e| ("GeomSubset".to_string(), format!("{e:#}")))? {
+        if child.type_name().ok().flatten().is_none_or(|t| t.as_str() != "GeomSubset") {
+            continue;
+        }
+        let family = value::token(&child, "familyName")?;
+        let element = value::token(&child, "elementType")?.unwrap_or_else(|| "face".into());
+        if family.as_deref().is_some_and(|f| f != "materialBind") || element != "face" {
+            continue;
+        }
+        out.push((child.clone(), value::int_array(&child, "indices")?.unwrap_or_default()));
+    }
+    Ok(out)
+}
+
+/// Splits `local`'s triangles into the face sets `subsets` (a face claimed by an earlier subset
+/// stays there) and the rest: (subset index or None for the rest, the mesh of those triangles).
+/// Empty parts are left out; every part keeps all vertices.
+pub(super) fn split_by_subsets(local: &LocalMesh, subsets: &[Vec<i32>]) -> Vec<(Option<usize>, MeshDesc)> {
+    let mut owner: std::collections::HashMap<u32, usize> = std::collections::HashMap::new();
+    for (k, faces) in subsets.iter().enumerate() {
+        for &f in faces {
+            if f >= 0 {
+                owner.entry(f as u32).or_insert(k);
+            }
+        }
+    }
+    let mut parts: Vec<(Option<usize>, MeshDesc)> = Vec::new();
+    for part in (0..subsets.len()).map(Some).chain(std::iter::once(None)) {
+        let indices: Vec<[u32; 3]> = local
+            .mesh
+            .indices
+            .iter()
+            .zip(&local.faces)
+            .filter(|(_, f)| owner.get(f).copied() == part)
+            .map(|(t, _)| *t)
+            .collect();
+        if !indices.is_empty() {
+            parts.push((part, MeshDesc { indices, ..local.mesh.clone() }));
+        }
+    }
+    parts
 }

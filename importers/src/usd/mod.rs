@@ -10,7 +10,7 @@
 //!   are expanded through their prototype and copied per instance (world-space meshes).
 //! - **Transforms**: `xformOpOrder` stacks (with `!invert!` and `!resetXformStack!`) composed by
 //!   the crate, at the earliest time sample when ops are animated.
-//! - **Meshes** ([`mesh`]), **materials** ([`material`]), **lights** ([`light`]) and
+//! - **Meshes** ([`mesh`], split by `materialBind` GeomSubsets), **materials** ([`material`]), **lights** ([`light`]) and
 //!   **cameras** (`focalLength`, apertures -> horizontal field of view; -Z forward, +Y up).
 //! - **Errors** name the file and the prim path (and attribute); limits on the file size, the
 //!   prim count and the triangle count.
@@ -217,8 +217,7 @@ pub fn import_usd(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Import
                         &mut warnings,
                     );
                 }
-                let mut m = local_mesh.mesh;
-                triangles += m.indices.len() as u64;
+                triangles += local_mesh.mesh.indices.len() as u64;
                 if triangles > MAX_SCENE_TRIANGLES {
                     return Err(err(
                         ImportErrorKind::TooLarge,
@@ -227,29 +226,39 @@ pub fn import_usd(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Import
                         format!("the scene would have more than {MAX_SCENE_TRIANGLES} triangles"),
                     ));
                 }
-                if value::raw(&prim, "primvars:displayColor").ok().flatten().is_some()
-                    && material::bound_material(&stage, &prim).is_none()
-                {
+                let bound = material::bound_material(&stage, &prim);
+                if value::raw(&prim, "primvars:displayColor").ok().flatten().is_some() && bound.is_none() {
                     warn_once(
                         "displayColor",
                         format!("{at}: primvars:displayColor is not used; the default grey is"),
                         &mut warnings,
                     );
                 }
-                let mi = mats.index(&stage, path, material::bound_material(&stage, &prim), &mut warnings);
-                m.material = mi;
-                m.emission = mats.emission[mi].clone();
-                m.source = SourceLocation { file: path.to_owned(), line: None, item: Some(at.clone()) };
-                transform_mesh(&mut m, &world_q);
-                if m.positions.iter().any(|p| !p.is_finite()) {
-                    return Err(err(
-                        ImportErrorKind::InvalidValue,
-                        path,
-                        &at,
-                        "points overflow (not finite) after the transforms",
-                    ));
-                }
-                if !m.indices.is_empty() {
+                let subsets = mesh::material_subsets(&prim).map_err(|e| attr_err(path, &at, e))?;
+                let face_sets: Vec<Vec<i32>> = subsets.iter().map(|(_, f)| f.clone()).collect();
+                for (part, mut m) in mesh::split_by_subsets(&local_mesh, &face_sets) {
+                    let (material_path, name) = match part {
+                        // a subset without its own binding keeps the mesh's material
+                        Some(k) => (
+                            material::bound_material(&stage, &subsets[k].0).or(bound.clone()),
+                            subsets[k].0.path().as_str().to_string(),
+                        ),
+                        None => (bound.clone(), at.clone()),
+                    };
+                    let mi = mats.index(&stage, path, material_path, &mut warnings);
+                    m.material = mi;
+                    m.emission = mats.emission[mi].clone();
+                    m.source = SourceLocation { file: path.to_owned(), line: None, item: Some(name.clone()) };
+                    m.name = name;
+                    transform_mesh(&mut m, &world_q);
+                    if m.positions.iter().any(|p| !p.is_finite()) {
+                        return Err(err(
+                            ImportErrorKind::InvalidValue,
+                            path,
+                            &at,
+                            "points overflow (not finite) after the transforms",
+                        ));
+                    }
                     meshes.push(m);
                 }
             }

@@ -11,7 +11,7 @@ Dev-only; the fixtures are committed, so the tests need neither Python nor usd-c
 import json
 import os
 
-from pxr import Gf, Sdf, Usd, UsdGeom, UsdLux, UsdShade
+from pxr import Gf, Sdf, Usd, UsdGeom, UsdLux, UsdShade, Vt
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -98,6 +98,16 @@ def scene():
     # the earliest sample applies)
     tri.AddTranslateOp().Set(Gf.Vec3d(0, 0, 0), 1.0)
     tri.GetPrim().GetAttribute("xformOp:translate").Set(Gf.Vec3d(0, 0, 7), 2.0)
+
+    # two quads split by a materialBind GeomSubset: face 1 is Red, the rest the mesh's Glass
+    split = UsdGeom.Mesh.Define(stage, "/World/Split")
+    split.CreatePointsAttr([(0, 0, 2), (1, 0, 2), (1, 1, 2), (0, 1, 2), (2, 0, 2), (2, 1, 2)])
+    split.CreateFaceVertexCountsAttr([4, 4])
+    split.CreateFaceVertexIndicesAttr([0, 1, 2, 3, 1, 4, 5, 2])
+    split.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
+    UsdShade.MaterialBindingAPI.Apply(split.GetPrim()).Bind(glass)
+    subset = UsdShade.MaterialBindingAPI(split).CreateMaterialBindSubset("right", Vt.IntArray([1]), UsdGeom.Tokens.face)
+    UsdShade.MaterialBindingAPI.Apply(subset.GetPrim()).Bind(red)
 
     # skipped: invisible, proxy purpose, inactive
     for name, how in [("Hidden", "invisible"), ("Proxy", "proxy"), ("Inactive", "inactive")]:
@@ -219,7 +229,17 @@ def expected(stage, file):
             counts = list(mesh.GetFaceVertexCountsAttr().Get())
             holes = set(mesh.GetHoleIndicesAttr().Get() or [])
             tris = sum(c - 2 for i, c in enumerate(counts) if i not in holes)
-            out["meshes"][str(prim.GetPath())] = {"world_points": pts, "triangles": tris}
+            entry = {"world_points": pts, "triangles": tris, "material": str(UsdShade.MaterialBindingAPI(prim).ComputeBoundMaterial()[0].GetPath())}
+            subsets = {}
+            for sub in UsdShade.MaterialBindingAPI(prim).GetMaterialBindSubsets():
+                faces = list(sub.GetIndicesAttr().Get())
+                subsets[str(sub.GetPath())] = {
+                    "material": str(UsdShade.MaterialBindingAPI(sub.GetPrim()).ComputeBoundMaterial()[0].GetPath()),
+                    "triangles": sum(counts[f] - 2 for f in faces if f not in holes),
+                }
+            if subsets:
+                entry["subsets"] = subsets
+            out["meshes"][str(prim.GetPath())] = entry
         elif prim.IsA(UsdGeom.Camera):
             cam = UsdGeom.Camera(prim).GetCamera(Usd.TimeCode.EarliestTime())
             m = cache.GetLocalToWorldTransform(prim)
