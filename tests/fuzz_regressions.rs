@@ -91,3 +91,17 @@ fn bsdf_regressions() {
         }
     }
 }
+
+#[test]
+fn usd_regressions() {
+    for p in inputs("usd") {
+        let result = std::panic::catch_unwind(|| quasar::importers::import_usd(&p, &ImportOptions::default()));
+        match result {
+            Ok(Ok(desc)) => {
+                quasar::core::scene::Scene::compile(&desc).unwrap();
+            }
+            Ok(Err(e)) => assert!(e.to_string().contains(p.file_name().unwrap().to_str().unwrap()), "{e}"),
+            Err(_) => panic!("{}: the USD importer panicked", p.display()),
+        }
+    }
+}
