@@ -445,5 +445,9 @@ fn black_renders_are_reported() {
     }
     let s = write_scene(GOOD, &[]);
     let (_, stderr) = render_cli(&s.path, &s.dir.path().join("lit.exr"), [] as [&str; 0]);
-    assert!(!stderr.contains("black"));
+    assert!(!stderr.contains("black") && !stderr.contains("sees none"), "{stderr}");
+    // a camera turned away from the geometry, under a lit sky: not black, but it sees nothing
+    let away = write_scene(&GOOD.replace("target = [0, 0, 0]", "target = [0, 0, 6]"), &[]);
+    let (status, stderr) = render_cli(&away.path, &away.dir.path().join("away.exr"), [] as [&str; 0]);
+    assert!(status.success() && stderr.contains("the camera sees none of the scene's geometry"), "{stderr}");
 }

@@ -196,6 +196,11 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
             "{}: the image is black (every pixel 0): the camera sees no lit surface and no light",
             desc.source.display()
         ));
+    } else if !desc.meshes.is_empty() && result.depth.iter().all(|d| !d.is_finite()) {
+        result.warnings.push(format!(
+            "{}: the camera sees none of the scene's geometry (every pixel-centre ray misses): check [camera]",
+            desc.source.display()
+        ));
     }
     let unit_name = if entry.params.iter().any(|p| p.key == "iterations") { "iterations" } else { "spp" };
     let estimated = result.film.estimated_rel_error();
