@@ -16,7 +16,7 @@
 
 use glam::Vec3;
 
-use crate::scene_desc::{CameraDesc, FovAxis, MeshDesc};
+use crate::scene_desc::{CameraDesc, FovAxis, MeshDesc, NamedCamera, RenderSettings};
 
 /// Vertical field of view of the framing camera, degrees.
 pub const FRAMING_FOV_DEG: f32 = 40.0;
@@ -39,6 +39,20 @@ pub fn framing_camera(meshes: &[MeshDesc]) -> Option<CameraDesc> {
         return None;
     }
     Some(framing_camera_of_box(lo, hi, open_side(meshes)))
+}
+
+/// The scene camera of a model file: its first camera, whose aspect ratio (when the file gives
+/// one) sets `render.width` for `render.height`, else the framing camera of `meshes`.
+pub fn scene_camera(cameras: &[NamedCamera], meshes: &[MeshDesc], render: &mut RenderSettings) -> CameraDesc {
+    match cameras.first() {
+        Some(c) => {
+            if let Some(a) = c.aspect {
+                render.width = (render.height as f32 * a).round().clamp(1.0, 65536.0) as u32;
+            }
+            c.camera.clone()
+        }
+        None => framing_camera(meshes).unwrap_or_default(),
+    }
 }
 
 /// The side (one of [`SIDES`]) to which the meshes are most open (module documentation).

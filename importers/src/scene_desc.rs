@@ -63,6 +63,19 @@ pub struct MeshDesc {
     pub source: SourceLocation,
 }
 
+impl MeshDesc {
+    /// Sum of the triangle areas, 1/2 |(v1 - v0) x (v2 - v0)| each (indices out of range count 0).
+    pub fn area(&self) -> f64 {
+        self.indices
+            .iter()
+            .map(|t| match t.map(|i| self.positions.get(i as usize)) {
+                [Some(a), Some(b), Some(c)] => 0.5 * f64::from((*b - *a).cross(*c - *a).length()),
+                _ => 0.0,
+            })
+            .sum()
+    }
+}
+
 /// A light that is not a surface (area lights are emissive meshes).
 #[derive(Clone, Debug, PartialEq)]
 pub enum LightDesc {

@@ -167,28 +167,14 @@ fn lights_match_pixar_placement_and_photometric_units() {
     let rect = mesh(&s, "/L/Rect");
     let e = rect.emission.as_ref().unwrap();
     assert!(close(e.scale, photometric_scale(200.0)) && !e.two_sided);
-    let area: f32 = rect
-        .indices
-        .iter()
-        .map(|t| {
-            let [a, b, c] = t.map(|i| rect.positions[i as usize]);
-            0.5 * (b - a).cross(c - a).length()
-        })
-        .sum();
+    let area = rect.area() as f32;
     assert!(close(area, 0.02), "{area}");
     let [a, b, c] = rect.indices[0].map(|i| rect.positions[i as usize]);
     assert!(((b - a).cross(c - a).normalize() - dir("/L/Rect")).length() < 1e-5);
     assert!((rect.positions.iter().sum::<Vec3>() / 4.0 - pos("/L/Rect")).length() < 1e-6);
     // disk: normalised, so luminance / area
     let disk = mesh(&s, "/L/Disk");
-    let disk_area: f32 = disk
-        .indices
-        .iter()
-        .map(|t| {
-            let [a, b, c] = t.map(|i| disk.positions[i as usize]);
-            0.5 * (b - a).cross(c - a).length()
-        })
-        .sum();
+    let disk_area = disk.area() as f32;
     assert!(close(disk.emission.as_ref().unwrap().scale, photometric_scale(50.0) / disk_area));
     assert!(s.meshes.iter().any(|m| m.name == "/L/Sphere") && s.meshes.iter().any(|m| m.name == "/L/Cylinder"));
 }

@@ -110,17 +110,6 @@ fn local_mesh(name: &str, positions: Vec<Vec3>, indices: Vec<[u32; 3]>, spectrum
     }
 }
 
-/// Sum of the triangle areas of `m`.
-fn area(m: &MeshDesc) -> f64 {
-    m.indices
-        .iter()
-        .map(|t| {
-            let [a, b, c] = t.map(|i| m.positions[i as usize]);
-            0.5 * f64::from((b - a).cross(c - a).length())
-        })
-        .sum()
-}
-
 /// A disk of `radius` in z = 0 facing -Z, as a fan of `segments` triangles.
 fn disk(radius: f32, segments: u32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
     let mut p = vec![Vec3::ZERO];
@@ -200,7 +189,7 @@ pub(super) fn read_light(prim: &Prim, ty: &str, world: &Affine3A) -> Result<(Usd
         let mut m = local_mesh(&name, positions, indices, spectrum.clone(), scale);
         transform_mesh(&mut m, world);
         if normalize {
-            let a = area(&m);
+            let a = m.area();
             if let Some(e) = &mut m.emission
                 && a > 0.0
             {

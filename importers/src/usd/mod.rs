@@ -353,15 +353,7 @@ pub fn import_usd(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Import
         mats.index(&stage, path, None, &mut warnings);
     }
     let mut render = crate::scene_desc::RenderSettings::default();
-    let camera = match cameras.first() {
-        Some(c) => {
-            if let Some(a) = c.aspect {
-                render.width = (render.height as f32 * a).round().clamp(1.0, 65536.0) as u32;
-            }
-            c.camera.clone()
-        }
-        None => crate::framing::framing_camera(&meshes).unwrap_or_default(),
-    };
+    let camera = crate::framing::scene_camera(&cameras, &meshes, &mut render);
     Ok(SceneDesc {
         materials: mats.descs,
         meshes,
