@@ -576,6 +576,26 @@ material = "chrome"
 }
 
 #[test]
+fn overrides_can_give_imported_meshes_an_emission() {
+    let toml = r#"
+[[include]]
+file = "cube.obj"
+[[override]]
+match = "glass_*"
+emission = { spectrum = { blackbody = 3000 }, scale = 5 }
+"#;
+    let s = ok(toml, &[("cube.obj", CUBE_OBJ), ("cube.mtl", CUBE_MTL)]);
+    assert!(s.meshes[0].emission.is_none());
+    let e = s.meshes[1].emission.as_ref().expect("the override's emission");
+    assert_eq!(e.scale, 5.0);
+    // the material is kept when only the emission is given
+    assert_eq!(s.materials[s.meshes[1].material].name, "cube.obj:glass_clear");
+    let bare = "[[include]]\nfile = \"cube.obj\"\n[[override]]\nmatch = \"glass_*\"\n";
+    let e = common::err(bare, &[("cube.obj", CUBE_OBJ), ("cube.mtl", CUBE_MTL)]);
+    assert!(e.contains("material"), "{e}");
+}
+
+#[test]
 fn include_of_a_toml_scene() {
     let inner = r#"
 units = "mm"

@@ -233,3 +233,22 @@ fn toml_scenes_include_usd_with_overrides_and_cameras() {
     assert_ne!(s.materials[holed.material].name, "copper");
     assert!((s.camera.position - Vec3::new(21.0, 2.0, 3.0)).length() < 1e-4, "{:?}", s.camera);
 }
+
+/// The shipped composed stage `scenes/usd/glass-plate.usda`: the referenced plate asset's
+/// meshes under the referencing prim, the variant `finish = "narrow"` giving the top face
+/// roughness sqrt(0.02) (GGX alpha 0.02, as Pixar composes it: the asset authors the roughness
+/// only inside its variants), Z up rotated to quasar's Y up.
+#[test]
+fn shipped_composed_stage_applies_its_reference_and_variant() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/usd/glass-plate.usda");
+    let s = import_scene(&path, &ImportOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    let top = mesh(&s, "/World/Plate/Top");
+    match &s.materials[top.material].material {
+        Material::Dielectric { alpha, .. } => assert!((alpha - 0.02).abs() < 1e-6, "alpha {alpha}"),
+        m => panic!("top face: {m:?}"),
+    }
+    // the top face lies 0.021 m above the substrate (quasar +Y)
+    assert!(top.positions.iter().all(|p| (p.y - 0.021).abs() < 1e-6), "{:?}", top.positions);
+    assert_eq!(s.meshes.len(), 8, "substrate, 6 plate faces, lamp");
+}

@@ -130,16 +130,29 @@ impl<'a> Builder<'a> {
     }
 
     /// `[[override]]`: gives every mesh whose name, source material name or material name
-    /// matches the glob `match` the material `material`.
+    /// matches the glob `match` the material `material` and/or the area emission `emission`
+    /// (a measured lamp spectrum on an imported model's emitter).
     pub(super) fn override_(&mut self, t: &Tbl<'_>) -> Result<(), ImportError> {
-        t.check_keys(&["match", "material"])?;
+        t.check_keys(&["match", "material", "emission"])?;
         let pattern = t.opt_str("match")?.ok_or_else(|| t.missing("match"))?;
-        let material = self.material_ref(t, "material")?.ok_or_else(|| t.missing("material"))?;
+        let material = self.material_ref(t, "material")?;
+        let emission = match t.opt_table("emission")? {
+            Some(e) => Some(super::shape::emission(&e)?),
+            None => None,
+        };
+        if material.is_none() && emission.is_none() {
+            return Err(t.missing("material"));
+        }
         let mut hits = 0usize;
         for (m, orig) in self.meshes.iter_mut().zip(&self.orig_material) {
             let current = &self.materials[m.material].name;
             if glob_match(pattern, &m.name) || glob_match(pattern, orig) || glob_match(pattern, current) {
-                m.material = material;
+                if let Some(material) = material {
+                    m.material = material;
+                }
+                if let Some(e) = &emission {
+                    m.emission = Some(e.clone());
+                }
                 hits += 1;
             }
         }
