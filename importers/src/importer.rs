@@ -14,6 +14,9 @@ pub struct ImportOptions {
     /// Let glTF files refer to external files by absolute paths or by relative paths that leave
     /// the glTF file's folder (refused by default; CLI `--allow-external-paths`).
     pub allow_external_paths: bool,
+    /// The time code animated USD attributes and transforms are read at (`None`: the earliest
+    /// time sample; CLI `--time-code`). Other formats have no animation that quasar reads.
+    pub time_code: Option<f64>,
 }
 
 impl ImportOptions {

@@ -100,6 +100,9 @@ enum Command {
         /// Extra length unit of the scene file (as for `render`).
         #[arg(long, value_parser = parse_units)]
         units: Option<f32>,
+        /// The USD time code (as for `render`).
+        #[arg(long, value_parser = parse::parse_time_code)]
+        time_code: Option<f64>,
     },
 }
 
@@ -315,8 +318,8 @@ fn run_tool(command: Command) -> Result<()> {
             )
             .map_err(|e| anyhow::anyhow!("{}: cannot be written for Mitsuba: {e}", scene.display()))
         }
-        Command::Info { scene, allow_external_paths, units } => {
-            let desc = load(&scene, &ImportOptions { allow_external_paths, units_scale: units })?;
+        Command::Info { scene, allow_external_paths, units, time_code } => {
+            let desc = load(&scene, &ImportOptions { allow_external_paths, units_scale: units, time_code })?;
             let compiled = Scene::compile(&desc)?;
             print!("{}", quasar::tools::info::report(&scene, &desc, &compiled));
             Ok(())

@@ -77,6 +77,14 @@ pub fn parse_positive(s: &str) -> Result<f64, String> {
     }
 }
 
+/// A finite time code (`--time-code`).
+pub fn parse_time_code(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        _ => Err(format!("expected a finite time code, got {s:?}")),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

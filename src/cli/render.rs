@@ -13,7 +13,9 @@ use quasar::render::default_light::{DefaultLight, add_default_light};
 use quasar::render::job::{JobOverrides, render_desc, write_outputs_with_preview};
 use quasar_importers::ImportOptions;
 
-use super::parse::{parse_exposure, parse_masking, parse_positive, parse_shard, parse_threads, parse_units, same_file};
+use super::parse::{
+    parse_exposure, parse_masking, parse_positive, parse_shard, parse_threads, parse_time_code, parse_units, same_file,
+};
 
 /// The arguments of `quasar render`.
 #[derive(clap::Args)]
@@ -27,6 +29,10 @@ pub struct RenderArgs {
     /// `--units mm` for a glTF exported in millimetres (applies on top of a TOML `units`).
     #[arg(long, value_parser = parse_units)]
     pub units: Option<f32>,
+    /// The USD time code animated attributes and transforms are read at (default: the earliest
+    /// time sample).
+    #[arg(long, value_parser = parse_time_code)]
+    pub time_code: Option<f64>,
     /// Output EXR (default: the scene's name with .exr, in the current directory).
     #[arg(short, long)]
     pub output: Option<PathBuf>,
@@ -164,6 +170,7 @@ pub fn render(args: RenderArgs) -> Result<ExitCode> {
         scene,
         allow_external_paths,
         units,
+        time_code,
         output,
         method,
         spp,
@@ -184,7 +191,7 @@ pub fn render(args: RenderArgs) -> Result<ExitCode> {
         view,
         quiet,
     } = args;
-    let mut desc = super::load(&scene, &ImportOptions { allow_external_paths, units_scale: units })?;
+    let mut desc = super::load(&scene, &ImportOptions { allow_external_paths, units_scale: units, time_code })?;
     if let Some(w) = add_default_light(&mut desc, default_light) {
         eprintln!("warning: {w}");
     }

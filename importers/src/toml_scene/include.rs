@@ -37,7 +37,7 @@ impl<'a> Builder<'a> {
             ));
         }
         let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
-        let plain = ImportOptions::default();
+        let plain = ImportOptions { time_code: self.time_code, ..ImportOptions::default() };
         let sub = if ext == "toml" {
             if t.has("units") {
                 return Err(doc.invalid(

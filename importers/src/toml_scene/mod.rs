@@ -100,6 +100,7 @@ fn parse_at_depth(
         unit: scene_unit * extra,
         depth,
         formats,
+        time_code: opts.time_code,
         materials: Vec::new(),
         by_name: HashMap::new(),
         toml_materials: HashMap::new(),
@@ -184,6 +185,8 @@ struct Builder<'a> {
     depth: u32,
     /// The formats an include may have.
     formats: Formats<'a>,
+    /// The USD time code included stages are read at (the command line's).
+    time_code: Option<f64>,
     materials: Vec<MaterialDesc>,
     /// Every material name in `materials` -> index.
     by_name: HashMap<String, usize>,
@@ -356,7 +359,7 @@ impl<'a> Builder<'a> {
                 let sub = t.opt_int("subdivisions", 0, MAX_SPHERE_SUBDIVISIONS as i128)?;
                 let sub = sub.unwrap_or(DEFAULT_SPHERE_SUBDIVISIONS);
                 self.reserve_triangles(t, 20 << (2 * sub))?;
-                shape::sphere(center, radius, sub)
+                crate::tessellation::sphere(center, radius, sub)
             }
             _ => {
                 let center = t.opt_point("center", unit)?.unwrap_or(Vec3::ZERO);
@@ -364,7 +367,7 @@ impl<'a> Builder<'a> {
                 let normal = t.opt_dir("normal")?.unwrap_or(Vec3::Z);
                 let seg = t.opt_int("segments", 3, MAX_DISK_SEGMENTS as i128)?.unwrap_or(DEFAULT_DISK_SEGMENTS);
                 self.reserve_triangles(t, seg as u64)?;
-                shape::disk(center, radius, normal, seg)
+                crate::tessellation::disk(center, radius, normal, seg)
             }
         };
         let mut mesh = MeshDesc {
@@ -386,7 +389,7 @@ impl<'a> Builder<'a> {
     }
 
     /// A quad from `corner`/`edge1`/`edge2`, or from `center`/`size`/`normal`.
-    fn quad(&self, t: &Tbl<'_>) -> Result<shape::Tessellation, ImportError> {
+    fn quad(&self, t: &Tbl<'_>) -> Result<crate::tessellation::Tessellation, ImportError> {
         let doc = self.doc;
         let unit = self.unit;
         let explicit = ["corner", "edge1", "edge2"];
@@ -409,7 +412,7 @@ impl<'a> Builder<'a> {
                     format!("`{}`: edge1 and edge2 must be non-zero and not parallel (the quad has no area)", t.path),
                 ));
             }
-            return Ok(shape::quad(corner, e1, e2));
+            return Ok(crate::tessellation::quad(corner, e1, e2));
         }
         let center = t.opt_point("center", unit)?.unwrap_or(Vec3::ZERO);
         let size = t.opt_vec2("size")?.ok_or_else(|| {
@@ -424,9 +427,9 @@ impl<'a> Builder<'a> {
             return Err(doc.invalid(&sv, format!("`{}.size` must be > 0 and finite, got {size}", t.path)));
         }
         let normal = t.opt_dir("normal")?.unwrap_or(Vec3::Z);
-        let (u, v) = shape::plane_frame(normal);
+        let (u, v) = crate::tessellation::plane_frame(normal);
         let (e1, e2) = (u * size.x, v * size.y);
-        Ok(shape::quad(center - 0.5 * (e1 + e2), e1, e2))
+        Ok(crate::tessellation::quad(center - 0.5 * (e1 + e2), e1, e2))
     }
 
     /// The scene camera: `[camera]` with `name` or `index` picks a camera of an included file

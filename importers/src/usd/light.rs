@@ -10,9 +10,9 @@
 //! | UsdLux | quasar |
 //! |---|---|
 //! | `RectLight` (width along X, height along Y, emits towards -Z) | one-sided emissive quad |
-//! | `DiskLight` (radius, emits towards -Z) | one-sided emissive disk (64 segments) |
-//! | `SphereLight` | emissive sphere (32 x 16), outward; `treatAsPoint`: point light of intensity L_v π r² (the sphere's far field); with `ShapingAPI` cone: spot light (cone angle, falloff from angle x (1 - softness)) |
-//! | `CylinderLight` (length along X, radius) | emissive cylinder side, outward |
+//! | `DiskLight` (radius, emits towards -Z) | one-sided emissive disk (64 segments, true area) |
+//! | `SphereLight` | emissive icosphere (1280 triangles, true area), outward; `treatAsPoint`: point light of intensity L_v π r² (the sphere's far field); with `ShapingAPI` cone: spot light (cone angle, falloff from angle x (1 - softness)) |
+//! | `CylinderLight` (length along X, radius) | emissive cylinder side (64 segments), outward |
 //! | `DistantLight` (towards -Z) | directional light of illuminance L_v lux (`angle` ignored: a delta light; warned above 2°) |
 //! | `DomeLight` | constant environment of luminance L_v (a `texture:file` is not read yet: warning) |
 //!
@@ -26,6 +26,7 @@ use quasar_materials::spectrum::Spectrum;
 use super::value::{self, AttrError};
 use crate::photometric::photometric_scale;
 use crate::scene_desc::{EmissionDesc, LightDesc, MeshDesc};
+use crate::tessellation::{self, Tessellation};
 use crate::transform::transform_mesh;
 
 /// What a UsdLux prim becomes.
@@ -96,72 +97,18 @@ fn emission(prim: &Prim, default_intensity: f64) -> Result<(f64, Spectrum, Vec<S
     Ok((lv, spectrum, notes))
 }
 
-/// A mesh of `positions` and `indices` in the light's local space, emitting `scale x spectrum`.
-fn local_mesh(name: &str, positions: Vec<Vec3>, indices: Vec<[u32; 3]>, spectrum: Spectrum, scale: f32) -> MeshDesc {
+/// The shape `t` in the light's local space, emitting `scale x spectrum` from its front.
+fn local_mesh(name: &str, t: Tessellation, spectrum: Spectrum, scale: f32) -> MeshDesc {
     MeshDesc {
         name: name.to_string(),
-        positions,
-        normals: None,
+        positions: t.positions,
+        normals: t.normals,
         uvs: None,
-        indices,
+        indices: t.indices,
         material: 0,
         emission: Some(EmissionDesc { spectrum, scale, two_sided: false }),
         source: Default::default(),
     }
-}
-
-/// A disk of `radius` in z = 0 facing -Z, as a fan of `segments` triangles.
-fn disk(radius: f32, segments: u32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
-    let mut p = vec![Vec3::ZERO];
-    for k in 0..segments {
-        // clockwise seen from +Z: the triangles face -Z
-        let a = -(k as f32) * std::f32::consts::TAU / segments as f32;
-        p.push(Vec3::new(radius * a.cos(), radius * a.sin(), 0.0));
-    }
-    let t = (0..segments).map(|k| [0, 1 + k, 1 + (k + 1) % segments]).collect();
-    (p, t)
-}
-
-/// A UV sphere of `radius` facing outwards.
-fn sphere(radius: f32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
-    let (nu, nv) = (32u32, 16u32);
-    let mut p = Vec::new();
-    for j in 0..=nv {
-        let theta = std::f32::consts::PI * j as f32 / nv as f32;
-        for i in 0..nu {
-            let phi = std::f32::consts::TAU * i as f32 / nu as f32;
-            p.push(radius * Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin()));
-        }
-    }
-    let mut t = Vec::new();
-    for j in 0..nv {
-        for i in 0..nu {
-            let (a, b) = (j * nu + i, j * nu + (i + 1) % nu);
-            let (c, d) = (a + nu, b + nu);
-            t.push([a, b, c]);
-            t.push([b, d, c]);
-        }
-    }
-    (p, t)
-}
-
-/// A cylinder side of `radius` and `length` along X facing outwards.
-fn cylinder(radius: f32, length: f32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
-    let n = 32u32;
-    let mut p = Vec::new();
-    for x in [-0.5 * length, 0.5 * length] {
-        for i in 0..n {
-            let a = std::f32::consts::TAU * i as f32 / n as f32;
-            p.push(Vec3::new(x, radius * a.cos(), radius * a.sin()));
-        }
-    }
-    let mut t = Vec::new();
-    for i in 0..n {
-        let (a, b) = (i, (i + 1) % n);
-        t.push([a, a + n, b]);
-        t.push([b, a + n, b + n]);
-    }
-    (p, t)
 }
 
 /// The light of the UsdLux prim `prim` of type `ty` with local-to-world transform `world`, and
@@ -185,8 +132,8 @@ pub(super) fn read_light(prim: &Prim, ty: &str, world: &Affine3A) -> Result<(Usd
     let origin = world.transform_point3(Vec3::ZERO);
     let down = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
     let scale = photometric_scale(lv as f32);
-    let area_light = |(positions, indices): (Vec<Vec3>, Vec<[u32; 3]>)| {
-        let mut m = local_mesh(&name, positions, indices, spectrum.clone(), scale);
+    let area_light = |t: Tessellation| {
+        let mut m = local_mesh(&name, t, spectrum.clone(), scale);
         transform_mesh(&mut m, world);
         if normalize {
             let a = m.area();
@@ -201,15 +148,18 @@ pub(super) fn read_light(prim: &Prim, ty: &str, world: &Affine3A) -> Result<(Usd
     let light = match ty {
         "RectLight" => {
             let (w, h) = (0.5 * size("width", 1.0)?, 0.5 * size("height", 1.0)?);
-            let p = vec![Vec3::new(-w, -h, 0.0), Vec3::new(-w, h, 0.0), Vec3::new(w, h, 0.0), Vec3::new(w, -h, 0.0)];
-            area_light((p, vec![[0, 1, 2], [0, 2, 3]]))
+            area_light(tessellation::quad(
+                Vec3::new(-w, -h, 0.0),
+                Vec3::new(0.0, 2.0 * h, 0.0),
+                Vec3::new(2.0 * w, 0.0, 0.0),
+            ))
         }
-        "DiskLight" => area_light(disk(size("radius", 0.5)?, 64)),
+        "DiskLight" => area_light(tessellation::disk(Vec3::ZERO, size("radius", 0.5)?, Vec3::NEG_Z, 64)),
         "CylinderLight" => {
             if value::boolean(prim, "treatAsLine")?.unwrap_or(false) {
                 notes.push("treatAsLine is ignored: the cylinder is rendered".into());
             }
-            area_light(cylinder(size("radius", 0.5)?, size("length", 1.0)?))
+            area_light(tessellation::cylinder_side(size("radius", 0.5)?, size("length", 1.0)?, 64).along(0))
         }
         "SphereLight" => {
             let r = size("radius", 0.5)?;
@@ -237,7 +187,7 @@ pub(super) fn read_light(prim: &Prim, ty: &str, world: &Affine3A) -> Result<(Usd
                     _ => UsdLight::Light(LightDesc::Point { position: origin, spectrum, scale: intensity }),
                 }
             } else {
-                area_light(sphere(r))
+                area_light(tessellation::sphere(Vec3::ZERO, r, 3))
             }
         }
         "DistantLight" => {

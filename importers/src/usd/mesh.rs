@@ -184,6 +184,9 @@ pub(super) fn material_subsets(mesh: &Prim) -> Result<Vec<(Prim, Vec<i32>)>, Att
 /// stays there) and the rest: (subset index or None for the rest, the mesh of those triangles).
 /// Empty parts are left out; every part keeps all vertices.
 pub(super) fn split_by_subsets(local: &LocalMesh, subsets: &[Vec<i32>]) -> Vec<(Option<usize>, MeshDesc)> {
+    if subsets.is_empty() {
+        return vec![(None, local.mesh.clone())];
+    }
     let mut owner: std::collections::HashMap<u32, usize> = std::collections::HashMap::new();
     for (k, faces) in subsets.iter().enumerate() {
         for &f in faces {

@@ -9,15 +9,20 @@
 //!   `guide` prune a subtree; `Material` / `Shader` subtrees are not geometry. Instanceable prims
 //!   are expanded through their prototype and copied per instance (world-space meshes).
 //! - **Transforms**: `xformOpOrder` stacks (with `!invert!` and `!resetXformStack!`) composed by
-//!   the crate, at the earliest time sample when ops are animated.
-//! - **Meshes** ([`mesh`], split by `materialBind` GeomSubsets), **materials** ([`material`]), **lights** ([`light`]) and
-//!   **cameras** (`focalLength`, apertures -> horizontal field of view; -Z forward, +Y up).
+//!   the crate; animated ops and attributes at [`ImportOptions::time_code`] (default: the
+//!   earliest time sample).
+//! - **Meshes** ([`mesh`], split by `materialBind` GeomSubsets), implicit **shapes**
+//!   ([`shapes`]), **PointInstancer** instances ([`instancer`], copied), **materials**
+//!   ([`material`]), **lights** ([`light`]) and **cameras** ([`camera`]).
 //! - **Errors** name the file and the prim path (and attribute); limits on the file size, the
 //!   prim count and the triangle count.
 
+mod camera;
+mod instancer;
 mod light;
 mod material;
 mod mesh;
+mod shapes;
 mod value;
 
 use std::collections::HashMap;
@@ -26,14 +31,13 @@ use std::path::Path;
 use glam::{Affine3A, DMat4, Mat3, Vec3};
 use openusd::schemas::geom::{Imageable, Xformable};
 use openusd::sdf;
-use openusd::usd::{Prim, SchemaBase, SchemaKind, Stage, TimeCode};
+use openusd::usd::{Prim, SchemaBase, SchemaKind, Stage};
 
 use self::light::{LIGHT_TYPES, UsdLight};
+use self::shapes::SHAPE_TYPES;
 use crate::error::{ErrorPlace, ImportError, ImportErrorKind};
 use crate::importer::{Formats, ImportOptions, Importer};
-use crate::scene_desc::{
-    CameraDesc, FovAxis, MAX_SCENE_TRIANGLES, MaterialDesc, MeshDesc, NamedCamera, SceneDesc, SourceLocation,
-};
+use crate::scene_desc::{MAX_SCENE_TRIANGLES, MaterialDesc, MeshDesc, NamedCamera, SceneDesc, SourceLocation};
 use crate::transform::transform_mesh;
 
 /// Largest USD file accepted (bytes).
@@ -115,6 +119,23 @@ impl Materials {
     }
 }
 
+impl Materials {
+    /// The black two-sided diffuse material of the UsdLux area lights' meshes.
+    fn light_material(&mut self, file: &Path) -> usize {
+        self.descs.push(MaterialDesc {
+            name: crate::names::unique_name("usd-light", |n| self.descs.iter().any(|d| d.name == n)),
+            material: quasar_materials::Material::Diffuse {
+                reflectance: quasar_materials::spectrum::Spectrum::Constant(0.0),
+                two_sided: true,
+            },
+            textures: Default::default(),
+            source: SourceLocation { file: file.to_owned(), line: None, item: None },
+        });
+        self.emission.push(None);
+        self.descs.len() - 1
+    }
+}
+
 /// Imports the USD file `path` (see the module documentation).
 pub fn import_usd(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportError> {
     let len = std::fs::metadata(path).map_err(|e| ImportError::io(path, "cannot read USD file", e))?.len();
@@ -128,6 +149,16 @@ pub fn import_usd(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Import
     let text = path.to_str().ok_or_else(|| {
         ImportError::new(ImportErrorKind::Unsupported, ErrorPlace::file(path), "the path is not valid UTF-8")
     })?;
+    if let Some(t) = opts.time_code
+        && !t.is_finite()
+    {
+        return Err(ImportError::new(
+            ImportErrorKind::InvalidValue,
+            ErrorPlace::file(path),
+            format!("time code {t} is not finite"),
+        ));
+    }
+    let _time = value::TimeScope::new(opts.time_code);
     let stage = Stage::open(text).map_err(|e| {
         ImportError::new(ImportErrorKind::Syntax, ErrorPlace::file(path), format!("cannot open the stage: {e:#}"))
     })?;
@@ -195,7 +226,7 @@ pub fn import_usd(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Import
             continue;
         }
         let local = view
-            .local_to_parent_transform(TimeCode::EARLIEST)
+            .local_to_parent_transform(value::time())
             .map_err(|e| err(ImportErrorKind::InvalidValue, path, &at, format!("{e:#}")))?;
         let local = DMat4::from_cols_array(&local.0);
         let resets = view.resets_xform_stack().unwrap_or(false);
@@ -204,7 +235,8 @@ pub fn import_usd(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Import
             return Err(err(ImportErrorKind::InvalidValue, path, &at, "the transform is not finite"));
         }
         let world_q = root * Affine3A::from_mat4(world.as_mat4());
-        match ty.as_str() {
+        // (local-space mesh, its materialBind subsets) of a geometric prim
+        let geometry = match ty.as_str() {
             "Mesh" => {
                 let local_mesh = mesh::read_mesh(&prim, at.clone()).map_err(|e| attr_err(path, &at, e))?;
                 if local_mesh.subdivision != "none" {
@@ -217,84 +249,27 @@ pub fn import_usd(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Import
                         &mut warnings,
                     );
                 }
-                triangles += local_mesh.mesh.indices.len() as u64;
-                if triangles > MAX_SCENE_TRIANGLES {
-                    return Err(err(
-                        ImportErrorKind::TooLarge,
-                        path,
-                        &at,
-                        format!("the scene would have more than {MAX_SCENE_TRIANGLES} triangles"),
-                    ));
-                }
-                let bound = material::bound_material(&stage, &prim);
-                if value::raw(&prim, "primvars:displayColor").ok().flatten().is_some() && bound.is_none() {
-                    warn_once(
-                        "displayColor",
-                        format!("{at}: primvars:displayColor is not used; the default grey is"),
-                        &mut warnings,
-                    );
-                }
                 let subsets = mesh::material_subsets(&prim).map_err(|e| attr_err(path, &at, e))?;
-                let face_sets: Vec<Vec<i32>> = subsets.iter().map(|(_, f)| f.clone()).collect();
-                for (part, mut m) in mesh::split_by_subsets(&local_mesh, &face_sets) {
-                    let (material_path, name) = match part {
-                        // a subset without its own binding keeps the mesh's material
-                        Some(k) => (
-                            material::bound_material(&stage, &subsets[k].0).or(bound.clone()),
-                            subsets[k].0.path().as_str().to_string(),
-                        ),
-                        None => (bound.clone(), at.clone()),
-                    };
-                    let mi = mats.index(&stage, path, material_path, &mut warnings);
-                    m.material = mi;
-                    m.emission = mats.emission[mi].clone();
-                    m.source = SourceLocation { file: path.to_owned(), line: None, item: Some(name.clone()) };
-                    m.name = name;
-                    transform_mesh(&mut m, &world_q);
-                    if m.positions.iter().any(|p| !p.is_finite()) {
-                        return Err(err(
-                            ImportErrorKind::InvalidValue,
-                            path,
-                            &at,
-                            "points overflow (not finite) after the transforms",
-                        ));
-                    }
-                    meshes.push(m);
-                }
+                Some((local_mesh, subsets))
+            }
+            t if SHAPE_TYPES.contains(&t) => {
+                let mesh = shapes::read_shape(&prim, t, at.clone()).map_err(|e| attr_err(path, &at, e))?;
+                Some((mesh::LocalMesh { mesh, subdivision: "none".into(), faces: Vec::new() }, Vec::new()))
             }
             "Camera" => {
-                let focal = value::scalar(&prim, "focalLength").map_err(|e| attr_err(path, &at, e))?.unwrap_or(50.0);
-                let h_ap =
-                    value::scalar(&prim, "horizontalAperture").map_err(|e| attr_err(path, &at, e))?.unwrap_or(20.955);
-                let v_ap =
-                    value::scalar(&prim, "verticalAperture").map_err(|e| attr_err(path, &at, e))?.unwrap_or(15.2908);
-                if value::token(&prim, "projection").ok().flatten().as_deref() == Some("orthographic") {
-                    warn_once(
-                        "ortho",
-                        format!("{at}: orthographic projection is rendered as perspective"),
-                        &mut warnings,
-                    );
+                let (camera, note) = camera::read_camera(&prim, &at, &world_q).map_err(|e| attr_err(path, &at, e))?;
+                if let Some(note) = note {
+                    warn_once("ortho", note, &mut warnings);
                 }
-                if !(focal > 0.0 && h_ap > 0.0 && v_ap > 0.0) {
-                    return Err(err(
-                        ImportErrorKind::InvalidValue,
-                        path,
-                        &at,
-                        format!("focalLength {focal} and apertures {h_ap} x {v_ap} must be positive"),
-                    ));
+                cameras.push(camera);
+                None
+            }
+            "PointInstancer" => {
+                // the prototypes are drawn through the instances only
+                for (proto, m) in instancer::instances(&prim).map_err(|e| attr_err(path, &at, e))?.into_iter().rev() {
+                    stack.push((stage.prim(proto), world * m, depth + 1));
                 }
-                let fov_deg = (2.0 * (0.5 * h_ap / focal).atan()).to_degrees() as f32;
-                let position = world_q.transform_point3(Vec3::ZERO);
-                let forward = world_q.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
-                let up = world_q.transform_vector3(Vec3::Y).normalize_or_zero();
-                let camera = CameraDesc {
-                    position,
-                    target: position + forward,
-                    up,
-                    fov_deg: fov_deg.clamp(0.01, 179.0),
-                    fov_axis: FovAxis::X,
-                };
-                cameras.push(NamedCamera { name: at.clone(), camera, aspect: Some((h_ap / v_ap) as f32) });
+                continue;
             }
             t if LIGHT_TYPES.contains(&t) => {
                 let (l, notes) = light::read_light(&prim, t, &world_q).map_err(|e| attr_err(path, &at, e))?;
@@ -304,21 +279,7 @@ pub fn import_usd(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Import
                 match l {
                     UsdLight::Light(l) => lights.push(l),
                     UsdLight::Mesh(mut m) => {
-                        let mi = *light_material.get_or_insert_with(|| {
-                            mats.descs.push(MaterialDesc {
-                                name: crate::names::unique_name("usd-light", |n| {
-                                    mats.descs.iter().any(|d| d.name == n)
-                                }),
-                                material: quasar_materials::Material::Diffuse {
-                                    reflectance: quasar_materials::spectrum::Spectrum::Constant(0.0),
-                                    two_sided: true,
-                                },
-                                textures: Default::default(),
-                                source: SourceLocation { file: path.to_owned(), line: None, item: None },
-                            });
-                            mats.emission.push(None);
-                            mats.descs.len() - 1
-                        });
+                        let mi = *light_material.get_or_insert_with(|| mats.light_material(path));
                         m.material = mi;
                         m.source = SourceLocation { file: path.to_owned(), line: None, item: Some(at.clone()) };
                         triangles += m.indices.len() as u64;
@@ -326,12 +287,58 @@ pub fn import_usd(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Import
                     }
                     UsdLight::Skipped(why) => warnings.push(format!("{}: {at}: {why}; skipped", path.display())),
                 }
+                None
             }
-            "PointInstancer" | "Points" | "BasisCurves" | "NurbsCurves" | "NurbsPatch" | "HermiteCurves"
-            | "TetMesh" | "Cube" | "Sphere" | "Cylinder" | "Cone" | "Capsule" | "Plane" => {
-                warn_once(&ty, format!("{at}: {ty} prims are not rendered yet (only Mesh geometry)"), &mut warnings);
+            "Points" | "BasisCurves" | "NurbsCurves" | "NurbsPatch" | "HermiteCurves" | "TetMesh" => {
+                warn_once(&ty, format!("{at}: {ty} prims are not rendered (surfaces only)"), &mut warnings);
+                None
             }
-            _ => {}
+            _ => None,
+        };
+        if let Some((local_mesh, subsets)) = geometry {
+            triangles += local_mesh.mesh.indices.len() as u64;
+            if triangles > MAX_SCENE_TRIANGLES {
+                return Err(err(
+                    ImportErrorKind::TooLarge,
+                    path,
+                    &at,
+                    format!("the scene would have more than {MAX_SCENE_TRIANGLES} triangles"),
+                ));
+            }
+            let bound = material::bound_material(&stage, &prim);
+            if value::raw(&prim, "primvars:displayColor").ok().flatten().is_some() && bound.is_none() {
+                warn_once(
+                    "displayColor",
+                    format!("{at}: primvars:displayColor is not used; the default grey is"),
+                    &mut warnings,
+                );
+            }
+            let face_sets: Vec<Vec<i32>> = subsets.iter().map(|(_, f)| f.clone()).collect();
+            for (part, mut m) in mesh::split_by_subsets(&local_mesh, &face_sets) {
+                let (material_path, name) = match part {
+                    // a subset without its own binding keeps the mesh's material
+                    Some(k) => (
+                        material::bound_material(&stage, &subsets[k].0).or(bound.clone()),
+                        subsets[k].0.path().as_str().to_string(),
+                    ),
+                    None => (bound.clone(), at.clone()),
+                };
+                let mi = mats.index(&stage, path, material_path, &mut warnings);
+                m.material = mi;
+                m.emission = mats.emission[mi].clone();
+                m.source = SourceLocation { file: path.to_owned(), line: None, item: Some(name.clone()) };
+                m.name = name;
+                transform_mesh(&mut m, &world_q);
+                if m.positions.iter().any(|p| !p.is_finite()) {
+                    return Err(err(
+                        ImportErrorKind::InvalidValue,
+                        path,
+                        &at,
+                        "points overflow (not finite) after the transforms",
+                    ));
+                }
+                meshes.push(m);
+            }
         }
         // an instance's children live in its prototype
         let kids = match prim.prototype().ok().flatten() {

@@ -2,18 +2,48 @@
 //! arrays) into the f32/glam types the importer works in, naming the prim and attribute when a
 //! value has the wrong type.
 
-use glam::{Vec2, Vec3};
+use std::cell::Cell;
+
+use glam::{DQuat, Vec2, Vec3};
 use openusd::sdf::Value;
 use openusd::usd::{Prim, TimeCode};
 
 /// A problem with one attribute: `(attribute name, what is wrong)`.
 pub(super) type AttrError = (String, String);
 
-/// The composed value of `prim`'s attribute `name` at the earliest time sample (or its default
-/// when it has no time samples); None when nothing authored it.
+thread_local! {
+    /// The time code every attribute of the stage being imported on this thread is read at
+    /// (`--time-code`; None: the earliest time sample).
+    static TIME: Cell<Option<f64>> = const { Cell::new(None) };
+}
+
+/// Reads the stage's attributes at time code `t` (None: the earliest sample) until dropped.
+pub(super) struct TimeScope(Option<f64>);
+
+impl TimeScope {
+    /// Sets the time code of this thread's attribute reads.
+    pub(super) fn new(t: Option<f64>) -> Self {
+        Self(TIME.with(|c| c.replace(t)))
+    }
+}
+
+impl Drop for TimeScope {
+    fn drop(&mut self) {
+        TIME.with(|c| c.set(self.0));
+    }
+}
+
+/// The time code attribute values are read at ([`TimeScope`]).
+pub(super) fn time() -> TimeCode {
+    TIME.with(Cell::get).map_or(TimeCode::EARLIEST, TimeCode::new)
+}
+
+/// The composed value of `prim`'s attribute `name` at the import's time code ([`time`]: the
+/// earliest time sample unless `--time-code` is given, held or interpolated as USD does), or its
+/// default when it has no time samples; None when nothing authored it.
 pub(super) fn raw(prim: &Prim, name: &str) -> Result<Option<Value>, AttrError> {
     let attr = prim.attribute(name);
-    let v = attr.get_at::<Value>(TimeCode::EARLIEST).map_err(|e| (name.to_string(), format!("{e:#}")))?;
+    let v = attr.get_at::<Value>(time()).map_err(|e| (name.to_string(), format!("{e:#}")))?;
     Ok(match v {
         Some(v) => Some(v),
         None => attr.get::<Value>().map_err(|e| (name.to_string(), format!("{e:#}")))?,
@@ -95,6 +125,32 @@ pub(super) fn vec2_array(prim: &Prim, name: &str) -> Result<Option<Vec<Vec2>>, A
         Some(Value::Vec2dVec(a)) => Some(a.iter().map(|v| Vec2::new(v[0] as f32, v[1] as f32)).collect()),
         Some(Value::Vec2hVec(a)) => Some(a.iter().map(|v| Vec2::new(f32::from(v[0]), f32::from(v[1]))).collect()),
         Some(v) => return Err(wrong(name, "an array of 2-vectors", &v)),
+    })
+}
+
+/// An array of unit quaternions (`quath[]`, `quatf[]`, `quatd[]`).
+pub(super) fn quat_array(prim: &Prim, name: &str) -> Result<Option<Vec<DQuat>>, AttrError> {
+    let q = |w: f64, x: f64, y: f64, z: f64| DQuat::from_xyzw(x, y, z, w);
+    Ok(match raw(prim, name)? {
+        None => None,
+        Some(Value::QuathVec(a)) => {
+            Some(a.iter().map(|v| q(f64::from(v.w), f64::from(v.x), f64::from(v.y), f64::from(v.z))).collect())
+        }
+        Some(Value::QuatfVec(a)) => {
+            Some(a.iter().map(|v| q(f64::from(v.w), f64::from(v.x), f64::from(v.y), f64::from(v.z))).collect())
+        }
+        Some(Value::QuatdVec(a)) => Some(a.iter().map(|v| q(v.w, v.x, v.y, v.z)).collect()),
+        Some(v) => return Err(wrong(name, "an array of quaternions", &v)),
+    })
+}
+
+/// An array of 64-bit integers (`int64[]`, or `int[]`).
+pub(super) fn int64_array(prim: &Prim, name: &str) -> Result<Option<Vec<i64>>, AttrError> {
+    Ok(match raw(prim, name)? {
+        None => None,
+        Some(Value::Int64Vec(a)) => Some(a),
+        Some(Value::IntVec(a)) => Some(a.into_iter().map(i64::from).collect()),
+        Some(v) => return Err(wrong(name, "an int64 array", &v)),
     })
 }
 

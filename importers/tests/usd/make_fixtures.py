@@ -212,6 +212,116 @@ def composed():
     return stage
 
 
+def shapes():
+    """shapes.usda: every implicit shape (schema defaults and authored sizes, each axis), a
+    PointInstancer (two prototypes under it, orientations, scales, an invisible id), and a mesh
+    with a time-sampled translation (for --time-code)."""
+    stage = Usd.Stage.CreateNew(path("shapes.usda"))
+    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.y)
+    UsdGeom.SetStageMetersPerUnit(stage, 1.0)
+    world = UsdGeom.Xform.Define(stage, "/World")
+    stage.SetDefaultPrim(world.GetPrim())
+    UsdGeom.Cube.Define(stage, "/World/CubeDefault")
+    c = UsdGeom.Cube.Define(stage, "/World/Cube")
+    c.CreateSizeAttr(0.5)
+    c.AddTranslateOp().Set(Gf.Vec3d(3, 0, 0))
+    c.AddScaleOp().Set(Gf.Vec3f(1, 2, 3))
+    UsdGeom.Sphere.Define(stage, "/World/Sphere").CreateRadiusAttr(0.25)
+    for ax in "XYZ":
+        cy = UsdGeom.Cylinder.Define(stage, "/World/Cylinder" + ax)
+        cy.CreateAxisAttr(ax)
+        cy.CreateRadiusAttr(0.2)
+        cy.CreateHeightAttr(1.5)
+        cy.AddTranslateOp().Set(Gf.Vec3d(0, 5, 0))
+        co = UsdGeom.Cone.Define(stage, "/World/Cone" + ax)
+        co.CreateAxisAttr(ax)
+        co.AddTranslateOp().Set(Gf.Vec3d(-5, 0, 0))
+        ca = UsdGeom.Capsule.Define(stage, "/World/Capsule" + ax)
+        ca.CreateAxisAttr(ax)
+        ca.CreateHeightAttr(2.0)
+        pl = UsdGeom.Plane.Define(stage, "/World/Plane" + ax)
+        pl.CreateAxisAttr(ax)
+        pl.CreateWidthAttr(2.0)
+        pl.CreateLengthAttr(6.0)
+    UsdGeom.Capsule.Define(stage, "/World/CapsuleDefault")
+    rot = UsdGeom.Cone.Define(stage, "/World/ConeTurned")
+    rot.AddRotateZOp().Set(90.0)
+
+    inst = UsdGeom.PointInstancer.Define(stage, "/World/Forest")
+    inst.AddTranslateOp().Set(Gf.Vec3d(0, 0, -10))
+    UsdGeom.Scope.Define(stage, "/World/Forest/Prototypes")
+    tri = UsdGeom.Mesh.Define(stage, "/World/Forest/Prototypes/Tri")
+    tri.CreatePointsAttr([(0, 0, 0), (1, 0, 0), (0, 1, 0)])
+    tri.CreateFaceVertexCountsAttr([3])
+    tri.CreateFaceVertexIndicesAttr([0, 1, 2])
+    tri.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
+    tri.AddTranslateOp().Set(Gf.Vec3d(0, 0.5, 0))  # the prototype root's own transform counts
+    tree = UsdGeom.Xform.Define(stage, "/World/Forest/Prototypes/Tree")
+    tree.AddScaleOp().Set(Gf.Vec3f(2, 2, 2))
+    trunk = UsdGeom.Mesh.Define(stage, "/World/Forest/Prototypes/Tree/Trunk")
+    trunk.CreatePointsAttr([(0, 0, 0), (0.1, 0, 0), (0.1, 1, 0), (0, 1, 0)])
+    trunk.CreateFaceVertexCountsAttr([4])
+    trunk.CreateFaceVertexIndicesAttr([0, 1, 2, 3])
+    trunk.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
+    trunk.AddRotateYOp().Set(30.0)
+    inst.CreatePrototypesRel().SetTargets([tri.GetPath(), tree.GetPath()])
+    inst.CreateProtoIndicesAttr([0, 1, 1, 0])
+    inst.CreatePositionsAttr([(0, 0, 0), (2, 0, 0), (4, 0, 1), (6, 1, 0)])
+    inst.CreateOrientationsAttr([Gf.Quath(1, 0, 0, 0), Gf.Quath(0.7071068, 0, 0.7071068, 0),
+                                 Gf.Quath(0.5, 0.5, 0.5, 0.5), Gf.Quath(0.9238795, 0, 0, 0.3826834)])
+    inst.CreateScalesAttr([(1, 1, 1), (1, 2, 1), (0.5, 0.5, 0.5), (3, 1, 1)])
+    inst.CreateIdsAttr([10, 11, 12, 13])
+    inst.CreateInvisibleIdsAttr([12])
+
+    moving = UsdGeom.Mesh.Define(stage, "/World/Moving")
+    moving.CreatePointsAttr([(0, 0, 0), (1, 0, 0), (0, 1, 0)])
+    moving.CreateFaceVertexCountsAttr([3])
+    moving.CreateFaceVertexIndicesAttr([0, 1, 2])
+    moving.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
+    op = moving.AddTranslateOp()
+    op.Set(Gf.Vec3d(0, 0, 0), 1.0)
+    op.Set(Gf.Vec3d(9, 0, 0), 10.0)
+    stage.GetRootLayer().Save()
+    return stage
+
+
+def expected_shapes(stage):
+    """Pixar's world-space bounds of each implicit shape, the world points of every visible
+    PointInstancer instance's meshes (in instance order), and the moving mesh at two times."""
+    out = {"file": "shapes.usda", "shapes": {}, "instances": [], "moving": {}}
+    bbox = UsdGeom.BBoxCache(Usd.TimeCode.EarliestTime(), [UsdGeom.Tokens.default_, UsdGeom.Tokens.render])
+    for prim in stage.Traverse():
+        if prim.IsA(UsdGeom.Gprim) and not prim.IsA(UsdGeom.Mesh):
+            r = bbox.ComputeWorldBound(prim).ComputeAlignedRange()
+            out["shapes"][str(prim.GetPath())] = {"type": str(prim.GetTypeName()), "min": list(r.GetMin()), "max": list(r.GetMax())}
+    inst = UsdGeom.PointInstancer(stage.GetPrimAtPath("/World/Forest"))
+    t = Usd.TimeCode.EarliestTime()
+    xforms = inst.ComputeInstanceTransformsAtTime(t, t)
+    # Pixar's transforms are of the visible instances only (invisibleIds masked out)
+    world = UsdGeom.XformCache(t).GetLocalToWorldTransform(inst.GetPrim())
+    protos = inst.GetPrototypesRel().GetTargets()
+    ids = inst.GetIdsAttr().Get()
+    invisible = set(inst.GetInvisibleIdsAttr().Get())
+    cache = UsdGeom.XformCache(t)
+    visible = [pi for k, pi in enumerate(inst.GetProtoIndicesAttr().Get()) if ids[k] not in invisible]
+    assert len(visible) == len(xforms)
+    for k, pi in enumerate(visible):
+        root = stage.GetPrimAtPath(protos[pi])
+        for prim in Usd.PrimRange(root):
+            if not prim.IsA(UsdGeom.Mesh):
+                continue
+            # the mesh's transforms below the prototype root, then the instance's (which holds the root's)
+            rel = Gf.Matrix4d(1) if prim == root else cache.ComputeRelativeTransform(prim, root)[0]
+            m = rel * xforms[k] * world
+            pts = [list(m.Transform(Gf.Vec3d(p))) for p in UsdGeom.Mesh(prim).GetPointsAttr().Get()]
+            out["instances"].append({"mesh": str(prim.GetPath()), "world_points": pts})
+    moving = stage.GetPrimAtPath("/World/Moving")
+    for key, time in (("earliest", Usd.TimeCode.EarliestTime()), ("5.5", Usd.TimeCode(5.5))):
+        m = UsdGeom.XformCache(time).GetLocalToWorldTransform(moving)
+        out["moving"][key] = list(m.Transform(Gf.Vec3d(0, 0, 0)))
+    return out
+
+
 def expected(stage, file):
     """What Pixar's USD computes for `stage`: per rendered mesh its world points (after the up
     axis and units are applied by quasar: not here), triangles after holes, and the camera."""
@@ -265,7 +375,8 @@ def expected(stage, file):
 
 
 if __name__ == "__main__":
-    result = [expected(scene(), "scene.usda"), expected(lights(), "lights.usda"), expected(composed(), "composed.usdc")]
+    result = [expected(scene(), "scene.usda"), expected(lights(), "lights.usda"), expected(composed(), "composed.usdc"),
+              expected_shapes(shapes())]
     with open(path("expected.json"), "w") as f:
         json.dump(result, f, indent=1, sort_keys=True)
         f.write("\n")
