@@ -111,3 +111,144 @@ fn composed_glass_plate_stage_renders_the_toml_image() {
     let usd = common::render_file(&common::shipped("usd/glass-plate.usda"), &common::pt_ov(64, 48, 256, 4));
     common::assert_converges("glass plate, USD vs TOML", &usd, &toml, &common::ALL_QUANTITIES);
 }
+
+/// A UsdUVTexture seen straight on renders the right way up and round: the 2 x 2 image (red,
+/// green / blue, white) on a quad whose st runs (0, 0) at the lower left to (1, 1), lit by a
+/// white dome, gives those colours in the image's quadrants.
+#[test]
+fn uv_textures_render_the_right_way_up() {
+    let dir = tempfile::tempdir().unwrap();
+    let img = image::RgbaImage::from_fn(2, 2, |x, y| match (x, y) {
+        (0, 0) => image::Rgba([255, 0, 0, 255]),
+        (1, 0) => image::Rgba([0, 255, 0, 255]),
+        (0, 1) => image::Rgba([0, 0, 255, 255]),
+        _ => image::Rgba([255, 255, 255, 255]),
+    });
+    img.save(dir.path().join("quads.png")).unwrap();
+    let stage = r#"#usda 1.0
+(
+    metersPerUnit = 1
+    upAxis = "Y"
+)
+def Xform "World"
+{
+    def Mesh "Quad" (prepend apiSchemas = ["MaterialBindingAPI"])
+    {
+        int[] faceVertexCounts = [4]
+        int[] faceVertexIndices = [0, 1, 2, 3]
+        point3f[] points = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)]
+        texCoord2f[] primvars:st = [(0, 0), (1, 0), (1, 1), (0, 1)] (interpolation = "vertex")
+        uniform token subdivisionScheme = "none"
+        rel material:binding = </World/Look>
+    }
+    def Material "Look"
+    {
+        token outputs:surface.connect = </World/Look/Surface.outputs:surface>
+        def Shader "Surface"
+        {
+            uniform token info:id = "UsdPreviewSurface"
+            color3f inputs:diffuseColor.connect = </World/Look/Tex.outputs:rgb>
+            float inputs:roughness = 1
+            token outputs:surface
+        }
+        def Shader "Tex"
+        {
+            uniform token info:id = "UsdUVTexture"
+            asset inputs:file = @./quads.png@
+            token inputs:wrapS = "clamp"
+            token inputs:wrapT = "clamp"
+            float3 outputs:rgb
+        }
+    }
+    def Camera "Cam"
+    {
+        float focalLength = 20
+        float horizontalAperture = 10
+        float verticalAperture = 10
+        double3 xformOp:translate = (0.5, 0.5, 1.5)
+        uniform token[] xformOpOrder = ["xformOp:translate"]
+    }
+    def DomeLight "Sky"
+    {
+        float inputs:intensity = 1
+    }
+}
+"#;
+    let p = dir.path().join("tex.usda");
+    std::fs::write(&p, stage).unwrap();
+    let out = common::render_file(&p, &common::pt_ov(16, 16, 16, 1));
+    let ch = |name: &str| out.image.channel(name).unwrap().to_vec();
+    let (r, g, b) = (ch("R"), ch("G"), ch("B"));
+    let quadrant = |qx: usize, qy: usize| {
+        let (mut s, mut n) = ([0.0f64; 3], 0.0);
+        // the inner 4 x 4 pixels of each 8 x 8 quadrant (the quad fills the view)
+        for y in qy * 8 + 2..qy * 8 + 6 {
+            for x in qx * 8 + 2..qx * 8 + 6 {
+                let i = y * 16 + x;
+                s[0] += f64::from(r[i]);
+                s[1] += f64::from(g[i]);
+                s[2] += f64::from(b[i]);
+                n += 1.0;
+            }
+        }
+        s.map(|v| v / n)
+    };
+    let dominant = |c: [f64; 3]| (0..3).max_by(|&a, &b| c[a].total_cmp(&c[b])).unwrap();
+    assert_eq!(dominant(quadrant(0, 0)), 0, "top left is red: {:?}", quadrant(0, 0));
+    assert_eq!(dominant(quadrant(1, 0)), 1, "top right is green: {:?}", quadrant(1, 0));
+    assert_eq!(dominant(quadrant(0, 1)), 2, "bottom left is blue: {:?}", quadrant(0, 1));
+    let white = quadrant(1, 1);
+    assert!(white.iter().all(|&c| c > 0.5 * white[0].max(white[1]).max(white[2])), "bottom right is white: {white:?}");
+}
+
+/// A textured DomeLight follows UsdLux's OpenEXR lat-long orientation: the left half of the image
+/// (longitude 0..pi) lights the dome's +X half, so a camera looking along +X sees it bright and
+/// one looking along -X dark; a dome turned 90 degrees about +Y moves the bright half to -Z.
+#[test]
+fn dome_light_textures_follow_the_openexr_orientation() {
+    let dir = tempfile::tempdir().unwrap();
+    let (w, h) = (16usize, 8usize);
+    exr::prelude::write_rgb_file(dir.path().join("sky.exr"), w, h, |x, _| {
+        if x < w / 2 { (1.0f32, 1.0f32, 1.0f32) } else { (0.01, 0.01, 0.01) }
+    })
+    .unwrap();
+    let stage = |dome_yaw: f32, cam_yaw: f32| {
+        format!(
+            r#"#usda 1.0
+(
+    metersPerUnit = 1
+    upAxis = "Y"
+)
+def Xform "World"
+{{
+    def Camera "Cam"
+    {{
+        float focalLength = 50
+        float xformOp:rotateY = {cam_yaw}
+        uniform token[] xformOpOrder = ["xformOp:rotateY"]
+    }}
+    def DomeLight "Sky"
+    {{
+        float inputs:intensity = 1
+        asset inputs:texture:file = @./sky.exr@
+        token inputs:texture:format = "latlong"
+        float xformOp:rotateY = {dome_yaw}
+        uniform token[] xformOpOrder = ["xformOp:rotateY"]
+    }}
+}}
+"#
+        )
+    };
+    // camera yaw -90 looks along +X, 90 along -X, 0 along -Z, 180 along +Z
+    for (dome_yaw, bright_cam, dark_cam) in [(0.0, -90.0, 90.0), (90.0, 0.0, 180.0)] {
+        let mean = |cam: f32| {
+            let p = dir.path().join("dome.usda");
+            std::fs::write(&p, stage(dome_yaw, cam)).unwrap();
+            let desc = quasar_importers::import_scene(&p, &ImportOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+            let img = render_desc(&desc, &common::pt_ov(8, 8, 4, 1), false).unwrap().image;
+            common::mean(img.channel("XYZ.Y").unwrap())
+        };
+        let (bright, dark) = (mean(bright_cam), mean(dark_cam));
+        assert!(bright > 20.0 * dark, "dome yaw {dome_yaw}: bright side {bright}, dark side {dark}");
+    }
+}

@@ -24,6 +24,7 @@ pub mod scene_desc;
 pub mod small_text;
 pub mod source;
 mod tessellation;
+pub mod texture_decode;
 pub mod texture_desc;
 pub mod toml_reader;
 pub mod toml_scene;

@@ -328,3 +328,67 @@ fn time_code_selects_the_time_sample() {
         assert!((p - want).length() < 1e-5, "time {key}: {p}, Pixar {want}");
     }
 }
+
+/// `textures.usda`: UsdUVTexture inputs become the material's textures: the base colour image
+/// Pixar resolves (its file given by the Material's interface input) with its wrap modes and
+/// `scale` as the factor, the st transform of UsdTransform2d (in quasar's v-down coordinates),
+/// roughness (`r` of one image) and metallic (`g` of another) packed into glTF's G and B
+/// channels, the standard-encoded normal map.
+#[test]
+fn uv_textures_match_pixar_resolution_and_pack_like_gltf() {
+    use quasar_importers::texture_desc::TextureWrap;
+    let s = import("textures.usda");
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    let exp = expected("textures.usda");
+    let quad = mesh(&s, "/World/Quad");
+    let m = &s.materials[quad.material];
+    let pbr = m.textures.pbr.expect("textured material");
+    let base = m.textures.base_color.expect("base colour texture");
+    let albedo = &s.textures[base.texture];
+    let e = &exp["textures"]["/World/Looks/Painted/Albedo"];
+    assert_eq!(albedo.name, Path::new(e["file"].as_str().unwrap()).file_name().unwrap().to_str().unwrap());
+    assert_eq!((albedo.width, albedo.height), (4, 2));
+    assert_eq!(albedo.texels[0], [255, 0, 0, 255], "row 0 is the image's top");
+    assert_eq!((e["wrapS"].as_str(), e["wrapT"].as_str()), (Some("clamp"), Some("mirror")));
+    assert_eq!((albedo.wrap_u, albedo.wrap_v), (TextureWrap::ClampToEdge, TextureWrap::MirroredRepeat));
+    assert_eq!(pbr.base_color, [0.5; 3], "scale is the factor");
+    // UsdTransform2d: st' = T R S st with S = (2, 1), R = 90 deg, T = (0.5, 0.25), in USD's v-up
+    // st; quasar's uv = (s, 1 - t) on both sides
+    let usd = |s: f32, t: f32| {
+        let (u, v) = (2.0 * s, t);
+        (-v + 0.5, u + 0.25)
+    };
+    for (s0, t0) in [(0.0, 0.0), (1.0, 0.0), (0.25, 0.75)] {
+        let (s1, t1) = usd(s0, t0);
+        let (u, v) = (s0, 1.0 - t0);
+        let tr = base.transform;
+        let got = (tr[0][0] * u + tr[0][1] * v + tr[0][2], tr[1][0] * u + tr[1][1] * v + tr[1][2]);
+        assert!((got.0 - s1).abs() < 1e-5 && (got.1 - (1.0 - t1)).abs() < 1e-5, "st ({s0}, {t0}): {got:?}");
+    }
+    // roughness from rough.png's red, metallic from metal.png's green (scale 0.5: the factor)
+    let mr = &s.textures[m.textures.metallic_roughness.expect("packed").texture];
+    assert_eq!((mr.width, mr.height), (2, 2));
+    assert_eq!(mr.texels.iter().map(|t| t[1]).collect::<Vec<_>>(), [200, 100, 50, 0]);
+    assert!(mr.texels.iter().all(|t| t[2] == 77));
+    assert_eq!(exp["textures"]["/World/Looks/Painted/Metal"]["scale"][1], 0.5);
+    assert_eq!((pbr.roughness, pbr.metallic), (1.0, 0.5));
+    let n = &s.textures[m.textures.normal.expect("normal map").texture];
+    assert_eq!(n.texels[0], [128, 128, 255, 255]);
+    assert_eq!(m.textures.normal_scale, 1.0);
+}
+
+/// A texture file that does not exist is an error naming the stage, the texture prim and the file.
+#[test]
+fn missing_texture_files_are_errors_naming_the_prim() {
+    let dir = tempfile::tempdir().unwrap();
+    let text =
+        std::fs::read_to_string(fixture("textures.usda")).unwrap().replace("./tex/rough.png", "./tex/nothing.png");
+    let p = dir.path().join("broken.usda");
+    std::fs::write(&p, text).unwrap();
+    for f in ["albedo.png", "metal.png", "normal.png"] {
+        std::fs::create_dir_all(dir.path().join("tex")).unwrap();
+        std::fs::copy(fixture("tex").join(f), dir.path().join("tex").join(f)).unwrap();
+    }
+    let e = import_scene(&p, &ImportOptions::default()).unwrap_err().to_string();
+    assert!(e.contains("broken.usda") && e.contains("/World/Looks/Painted/Rough") && e.contains("nothing.png"), "{e}");
+}

@@ -31,10 +31,10 @@ use std::path::Path;
 
 use glam::{Affine3A, Vec3};
 
+pub use crate::texture_decode::{MAX_TEXTURE_ALLOC, MAX_TEXTURE_SIDE, decode_image};
 pub use accessor::{MAX_ACCESSOR_COUNT, MAX_ZERO_ACCESSOR_COUNT};
 pub use nodes::{MAX_NODE_DEPTH, MAX_NODE_VISITS};
 pub use source::MAX_GLTF_BUFFER_BYTES;
-pub use texture::{MAX_TEXTURE_ALLOC, MAX_TEXTURE_SIDE, decode_image};
 
 use self::accessor::Buffers;
 use self::nodes::{Walker, finish_cameras};

@@ -14,7 +14,7 @@
 //! | `SphereLight` | emissive icosphere (1280 triangles, true area), outward; `treatAsPoint`: point light of intensity L_v π r² (the sphere's far field); with `ShapingAPI` cone: spot light (cone angle, falloff from angle x (1 - softness)) |
 //! | `CylinderLight` (length along X, radius) | emissive cylinder side (64 segments), outward |
 //! | `DistantLight` (towards -Z) | directional light of illuminance L_v lux (`angle` ignored: a delta light; warned above 2°) |
-//! | `DomeLight` | constant environment of luminance L_v (a `texture:file` is not read yet: warning) |
+//! | `DomeLight` | constant environment of luminance L_v, or its lat-long `texture:file` (`.exr`, `.hdr`) times L_v in UsdLux's OpenEXR orientation ([`dome`]) |
 //!
 //! `normalize = true` divides an area light's luminance by its world-space area (the power no
 //! longer depends on the size). `GeometryLight` and `PortalLight` are not supported (warning).
@@ -111,9 +111,64 @@ fn local_mesh(name: &str, t: Tessellation, spectrum: Spectrum, scale: f32) -> Me
     }
 }
 
-/// The light of the UsdLux prim `prim` of type `ty` with local-to-world transform `world`, and
-/// notes for warnings.
-pub(super) fn read_light(prim: &Prim, ty: &str, world: &Affine3A) -> Result<(UsdLight, Vec<String>), AttrError> {
+/// A `DomeLight`: a constant environment, or the lat-long `texture:file` (`.exr` / `.hdr`) in
+/// the OpenEXR orientation UsdLux specifies (longitude 0 at the image centre looks along the
+/// dome's +Z, longitude pi/2 along +X, +Y the pole: quasar's map turned 180 degrees about +Y)
+/// turned with the dome's rotation about the vertical. The map's texels times the light's
+/// luminance are the radiance; a non-white `color` scales it by its luminance.
+fn dome(
+    prim: &Prim,
+    world: &Affine3A,
+    spectrum: Spectrum,
+    scale: f32,
+    stage_file: &std::path::Path,
+    notes: &mut Vec<String>,
+) -> Result<UsdLight, AttrError> {
+    let file = match value::raw(prim, "inputs:texture:file")? {
+        Some(v) => Some(v),
+        None => value::raw(prim, "texture:file")?,
+    };
+    let Some(openusd::sdf::Value::AssetPath(asset)) = file else {
+        return Ok(UsdLight::Light(LightDesc::Environment { spectrum, scale, map: None }));
+    };
+    let path = match asset.resolved_path() {
+        Some(r) if !r.is_empty() => std::path::PathBuf::from(r),
+        _ => stage_file.parent().unwrap_or(std::path::Path::new(".")).join(asset.asset_path()),
+    };
+    let format = value::token(prim, "inputs:texture:format")?.unwrap_or_else(|| "automatic".into());
+    if !matches!(format.as_str(), "automatic" | "latlong") {
+        notes.push(format!("texture:format `{format}` is read as latlong"));
+    }
+    let mut map =
+        crate::env_map::load_env_map(&path).map_err(|e| ("inputs:texture:file".to_string(), e.to_string()))?;
+    let pole = world.transform_vector3(Vec3::Y).normalize_or_zero();
+    if pole.dot(Vec3::Y) < 0.9998 {
+        notes.push(format!(
+            "the dome's pole points along {pole} in quasar's frame (Y up): only its rotation about the vertical is used"
+        ));
+    }
+    let z = world.transform_vector3(Vec3::Z);
+    map.rotate_deg = 180.0 + z.x.atan2(z.z).to_degrees();
+    let color = match value::vec3(prim, "inputs:color")? {
+        Some(c) => Some(c),
+        None => value::vec3(prim, "color")?,
+    }
+    .unwrap_or(Vec3::ONE);
+    if (color - Vec3::ONE).abs().max_element() > 1e-6 {
+        notes.push("the colour of a textured dome scales it by its luminance only".into());
+    }
+    let tint = 0.2126 * color.x + 0.7152 * color.y + 0.0722 * color.z;
+    Ok(UsdLight::Light(LightDesc::Environment { spectrum, scale: scale * tint, map: Some(std::sync::Arc::new(map)) }))
+}
+
+/// The light of the UsdLux prim `prim` of type `ty` with local-to-world transform `world`
+/// (`stage_file` anchors unresolved texture paths), and notes for warnings.
+pub(super) fn read_light(
+    prim: &Prim,
+    ty: &str,
+    world: &Affine3A,
+    stage_file: &std::path::Path,
+) -> Result<(UsdLight, Vec<String>), AttrError> {
     let name = prim.path().as_str().to_string();
     let size = |n: &str, default: f64| -> Result<f32, AttrError> {
         let v = input(prim, n)?.unwrap_or(default);
@@ -197,14 +252,7 @@ pub(super) fn read_light(prim: &Prim, ty: &str, world: &Affine3A) -> Result<(Usd
             }
             UsdLight::Light(LightDesc::Directional { direction: down, spectrum, scale })
         }
-        "DomeLight" => {
-            if value::raw(prim, "inputs:texture:file")?.is_some() || value::raw(prim, "texture:file")?.is_some() {
-                notes.push(
-                    "texture:file is not read yet: a constant environment of the light's luminance is used".into(),
-                );
-            }
-            UsdLight::Light(LightDesc::Environment { spectrum, scale, map: None })
-        }
+        "DomeLight" => dome(prim, world, spectrum, scale, stage_file, &mut notes)?,
         other => UsdLight::Skipped(format!("{other} is not a light type quasar reads")),
     };
     Ok((light, notes))

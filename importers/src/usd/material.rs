@@ -11,10 +11,13 @@
 //! | `opacity` (1) < 1 with `ior` (1.5) | dielectric of that IOR (transmission = 1 - opacity) |
 //! | `emissiveColor` (black) | an area light of luminance `emissiveColor` in cd/m² (as UsdLux's nits) |
 //!
-//! Textured inputs (`UsdUVTexture`), `specularColor` (the specular workflow), clearcoat and
-//! normal maps are not read: the input's default is used and a warning names the material.
-//! Materials that are not UsdPreviewSurface (MDL, MaterialX) get the fallback grey diffuse with
-//! a warning.
+//! Textured inputs ([`super::texture`]): `diffuseColor` (base colour texture, `scale` as the
+//! factor), `roughness` and `metallic` (packed as glTF's metallic-roughness texture), `normal`
+//! (tangent-space normal map), `emissiveColor` (the light's colour is the factor times the
+//! image's mean, as for glTF). Other textured inputs (`opacity`, `ior`, `clearcoat`, ...),
+//! `specularColor` (the specular workflow) and `opacityThreshold` are not read: the default is
+//! used and a warning names the material. Materials that are not UsdPreviewSurface (MDL,
+//! MaterialX) get the fallback grey diffuse with a warning.
 
 use openusd::schemas::shade::{self, MaterialBindingAPI};
 use openusd::sdf;
@@ -22,8 +25,23 @@ use openusd::usd::{Prim, Stage};
 use quasar_materials::spectrum::Spectrum;
 use quasar_materials::{Material, PbrParams, pbr_material};
 
+use super::texture::{self, TextureSet, UvTexture};
+use crate::error::ImportError;
 use crate::photometric::photometric_scale;
 use crate::scene_desc::EmissionDesc;
+use crate::texture_desc::MaterialTextures;
+
+/// A converted UsdShade material.
+pub(super) struct Converted {
+    /// The material of the constant inputs (textured inputs at their factors).
+    pub material: Material,
+    /// Its textures (empty when none is read).
+    pub textures: MaterialTextures,
+    /// The emission of `emissiveColor`.
+    pub emission: Option<EmissionDesc>,
+    /// What was not read, for warnings (each naming the material or texture).
+    pub notes: Vec<String>,
+}
 
 /// The material path bound to `prim` (all-purpose binding), if any.
 pub(super) fn bound_material(stage: &Stage, prim: &Prim) -> Option<sdf::Path> {
@@ -43,24 +61,46 @@ pub(super) fn fallback() -> Material {
     pbr_material(&PbrParams { base_color: [0.18; 3], metallic: 0.0, roughness: 0.5, ..Default::default() })
 }
 
-/// The quasar material and emission of the UsdShade material at `path`, plus the warnings
-/// about what was not read (each naming the material).
-pub(super) fn convert(stage: &Stage, path: &sdf::Path) -> (Material, Option<EmissionDesc>, Vec<String>) {
+/// The quasar material, textures and emission of the UsdShade material at `path` (images
+/// decoded into `textures`; `file` is the stage's file), plus notes about what was not read.
+/// A texture that cannot be read is an error naming the file, the texture prim and its file.
+pub(super) fn convert(
+    stage: &Stage,
+    path: &sdf::Path,
+    file: &std::path::Path,
+    textures: &mut TextureSet,
+) -> Result<Converted, ImportError> {
     let mut warnings = Vec::new();
     let at = path.as_str();
+    let fallback_result = |warnings| Converted {
+        material: fallback(),
+        textures: MaterialTextures::default(),
+        emission: None,
+        notes: warnings,
+    };
     let ps = match shade::read_preview_surface(stage, path) {
         Ok(Some(ps)) => ps,
         Ok(None) => {
             warnings.push(format!(
                 "{at}: not a UsdPreviewSurface material (MDL or MaterialX shaders are not read); grey diffuse used"
             ));
-            return (fallback(), None, warnings);
+            return Ok(fallback_result(warnings));
         }
         Err(e) => {
             warnings.push(format!("{at}: the material cannot be read ({e:#}); grey diffuse used"));
-            return (fallback(), None, warnings);
+            return Ok(fallback_result(warnings));
         }
     };
+    let shader = sdf::Path::new(&ps.shader).ok().map(|p| stage.prim(p));
+    let find = |input: &str, notes: &mut Vec<String>| -> Option<UvTexture> {
+        texture::find(stage, shader.as_ref()?, input, file, notes)
+    };
+    let tex_base = find("diffuseColor", &mut warnings);
+    let tex_rough = find("roughness", &mut warnings);
+    let tex_metal = find("metallic", &mut warnings);
+    let tex_normal = find("normal", &mut warnings);
+    let tex_emissive = find("emissiveColor", &mut warnings);
+    let read = ["diffuseColor", "roughness", "metallic", "normal", "emissiveColor"];
     let mut textured: Vec<&str> = Vec::new();
     let color =
         |c: &shade::Channel<openusd::gf::Vec3f>, name: &'static str, default: [f32; 3], t: &mut Vec<&str>| match c {
@@ -79,16 +119,66 @@ pub(super) fn convert(stage: &Stage, path: &sdf::Path) -> (Material, Option<Emis
         }
         shade::Channel::Unset => default,
     };
-    let base = color(&ps.diffuse_color, "diffuseColor", [0.18; 3], &mut textured);
-    let emissive = color(&ps.emissive_color, "emissiveColor", [0.0; 3], &mut textured);
-    let metallic = scalar(&ps.metallic, "metallic", 0.0, &mut textured);
-    let roughness = scalar(&ps.roughness, "roughness", 0.5, &mut textured);
+    let mut base = color(&ps.diffuse_color, "diffuseColor", [0.18; 3], &mut textured);
+    let mut emissive = color(&ps.emissive_color, "emissiveColor", [0.0; 3], &mut textured);
+    let mut metallic = scalar(&ps.metallic, "metallic", 0.0, &mut textured);
+    let mut roughness = scalar(&ps.roughness, "roughness", 0.5, &mut textured);
     let opacity = scalar(&ps.opacity, "opacity", 1.0, &mut textured);
     let ior = scalar(&ps.ior, "ior", 1.5, &mut textured);
     let _ = color(&ps.normal, "normal", [0.0; 3], &mut textured);
+    let mut maps = MaterialTextures::default();
+    let ignored_bias = |t: &UvTexture, w: &mut Vec<String>| {
+        if t.bias.iter().any(|&b| b != 0.0) {
+            w.push(format!("{}: inputs:bias is ignored (only normal maps' standard bias is read)", t.at));
+        }
+    };
+    if let Some(t) = &tex_base {
+        maps.base_color = Some(textures.image(t, file)?);
+        base = [t.scale[0], t.scale[1], t.scale[2]];
+        ignored_bias(t, &mut warnings);
+        if t.raw {
+            warnings.push(format!("{}: sourceColorSpace `raw` on a colour: the image is decoded as sRGB", t.at));
+        }
+    }
+    for t in [&tex_rough, &tex_metal].into_iter().flatten() {
+        ignored_bias(t, &mut warnings);
+    }
+    maps.metallic_roughness = textures.metallic_roughness(tex_rough.as_ref(), tex_metal.as_ref(), file)?;
+    if let Some(t) = &tex_rough {
+        roughness = t.scale[t.channel.unwrap_or(0)];
+    }
+    if let Some(t) = &tex_metal {
+        metallic = t.scale[t.channel.unwrap_or(0)];
+    }
+    if let Some(t) = &tex_normal {
+        maps.normal = Some(textures.image(t, file)?);
+        maps.normal_scale = 1.0;
+        let standard =
+            t.scale[..3].iter().all(|&s| (s - 2.0).abs() < 1e-3) && t.bias[..3].iter().all(|&b| (b + 1.0).abs() < 1e-3);
+        if !standard {
+            warnings.push(format!(
+                "{}: a normal map with scale {:?} and bias {:?}: read with the standard encoding (scale 2, bias -1)",
+                t.at, t.scale, t.bias
+            ));
+        }
+    }
+    if let Some(t) = &tex_emissive {
+        let r = textures.image(t, file)?;
+        let mean = textures.descs[r.texture].mean(true);
+        emissive = [0, 1, 2].map(|k| t.scale[k] * mean[k]);
+    }
+    textured.retain(|n| {
+        !read.contains(n)
+            || match *n {
+                "diffuseColor" => tex_base.is_none(),
+                "roughness" => tex_rough.is_none(),
+                "metallic" => tex_metal.is_none(),
+                "normal" => tex_normal.is_none(),
+                _ => tex_emissive.is_none(),
+            }
+    });
     if !textured.is_empty() {
-        warnings
-            .push(format!("{at}: textured inputs are not read yet ({}); their defaults are used", textured.join(", ")));
+        warnings.push(format!("{at}: textured inputs not read ({}); their defaults are used", textured.join(", ")));
     }
     let unread: Vec<&str> = [
         (ps.specular_color.is_set(), "specularColor (specular workflow)"),
@@ -101,18 +191,22 @@ pub(super) fn convert(stage: &Stage, path: &sdf::Path) -> (Material, Option<Emis
     if !unread.is_empty() {
         warnings.push(format!("{at}: {} not supported; ignored", unread.join(", ")));
     }
-    let material = pbr_material(&PbrParams {
+    let params = PbrParams {
         base_color: base,
         metallic,
         roughness,
         transmission: (1.0 - opacity).clamp(0.0, 1.0),
         ior: if ior.is_finite() && ior >= 1.0 { ior } else { 1.5 },
-    });
+    };
+    if maps.base_color.is_some() || maps.metallic_roughness.is_some() || maps.normal.is_some() {
+        maps.pbr = Some(params);
+    }
+    let material = pbr_material(&params);
     let emission =
         (emissive.iter().any(|&c| c > 0.0) && emissive.iter().all(|c| c.is_finite())).then(|| EmissionDesc {
             spectrum: Spectrum::rgb_illuminant(emissive).unwrap_or(Spectrum::Constant(0.0)),
             scale: photometric_scale(1.0),
             two_sided: false,
         });
-    (material, emission, warnings)
+    Ok(Converted { material, textures: maps, emission, notes: warnings })
 }

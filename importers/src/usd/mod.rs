@@ -23,6 +23,7 @@ mod light;
 mod material;
 mod mesh;
 mod shapes;
+mod texture;
 mod value;
 
 use std::collections::HashMap;
@@ -87,35 +88,49 @@ fn layer_metadata(stage: &Stage, key: &str) -> Option<sdf::Value> {
     stage.root_layer().pseudo_root().and_then(|r| r.get::<sdf::Value>(key))
 }
 
-/// The quasar name of the material bound to a mesh: the material prim's name, made unique.
+/// The stage's materials, by material prim path (named by the prim's name, made unique), and
+/// the textures they read.
+#[derive(Default)]
 struct Materials {
     by_path: HashMap<String, usize>,
     descs: Vec<MaterialDesc>,
     emission: Vec<Option<crate::scene_desc::EmissionDesc>>,
+    textures: texture::TextureSet,
 }
 
 impl Materials {
-    fn index(&mut self, stage: &Stage, file: &Path, path: Option<sdf::Path>, warnings: &mut Vec<String>) -> usize {
+    fn index(
+        &mut self,
+        stage: &Stage,
+        file: &Path,
+        path: Option<sdf::Path>,
+        warnings: &mut Vec<String>,
+    ) -> Result<usize, ImportError> {
         let key = path.as_ref().map_or_else(String::new, |p| p.as_str().to_string());
         if let Some(&i) = self.by_path.get(&key) {
-            return i;
+            return Ok(i);
         }
-        let (material, emission, notes) = match &path {
-            Some(p) => material::convert(stage, p),
-            None => (material::fallback(), None, Vec::new()),
+        let c = match &path {
+            Some(p) => material::convert(stage, p, file, &mut self.textures)?,
+            None => material::Converted {
+                material: material::fallback(),
+                textures: Default::default(),
+                emission: None,
+                notes: Vec::new(),
+            },
         };
-        warnings.extend(notes.into_iter().map(|n| format!("{}: {n}", file.display())));
+        warnings.extend(c.notes.into_iter().map(|n| format!("{}: {n}", file.display())));
         let base = path.as_ref().and_then(|p| p.name().map(str::to_string)).unwrap_or_else(|| "usd-default".into());
         let name = crate::names::unique_name(&base, |n| self.descs.iter().any(|d| d.name == n));
         self.descs.push(MaterialDesc {
             name,
-            material,
-            textures: Default::default(),
+            material: c.material,
+            textures: c.textures,
             source: SourceLocation { file: file.to_owned(), line: None, item: Some(key.clone()) },
         });
-        self.emission.push(emission);
+        self.emission.push(c.emission);
         self.by_path.insert(key, self.descs.len() - 1);
-        self.descs.len() - 1
+        Ok(self.descs.len() - 1)
     }
 }
 
@@ -187,7 +202,7 @@ pub fn import_usd(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Import
             warnings.push(format!("{}: {msg}", path.display()));
         }
     };
-    let mut mats = Materials { by_path: HashMap::new(), descs: Vec::new(), emission: Vec::new() };
+    let mut mats = Materials::default();
     let mut light_material = None;
     let mut meshes: Vec<MeshDesc> = Vec::new();
     let mut lights = Vec::new();
@@ -272,7 +287,7 @@ pub fn import_usd(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Import
                 continue;
             }
             t if LIGHT_TYPES.contains(&t) => {
-                let (l, notes) = light::read_light(&prim, t, &world_q).map_err(|e| attr_err(path, &at, e))?;
+                let (l, notes) = light::read_light(&prim, t, &world_q, path).map_err(|e| attr_err(path, &at, e))?;
                 for n in notes {
                     warnings.push(format!("{}: {at}: {n}", path.display()));
                 }
@@ -323,7 +338,7 @@ pub fn import_usd(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Import
                     ),
                     None => (bound.clone(), at.clone()),
                 };
-                let mi = mats.index(&stage, path, material_path, &mut warnings);
+                let mi = mats.index(&stage, path, material_path, &mut warnings)?;
                 m.material = mi;
                 m.emission = mats.emission[mi].clone();
                 m.source = SourceLocation { file: path.to_owned(), line: None, item: Some(name.clone()) };
@@ -357,7 +372,7 @@ pub fn import_usd(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Import
         ));
     }
     if mats.descs.is_empty() {
-        mats.index(&stage, path, None, &mut warnings);
+        mats.index(&stage, path, None, &mut warnings)?;
     }
     let mut render = crate::scene_desc::RenderSettings::default();
     let camera = crate::framing::scene_camera(&cameras, &meshes, &mut render);
@@ -367,7 +382,7 @@ pub fn import_usd(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Import
         lights,
         camera,
         cameras,
-        textures: Vec::new(),
+        textures: mats.textures.descs,
         warnings,
         render,
         source: path.to_owned(),

@@ -285,6 +285,115 @@ def shapes():
     return stage
 
 
+def write_png(name, width, height, texels):
+    """An 8-bit RGBA PNG of `texels` (rows top to bottom), without an imaging library."""
+    import struct
+    import zlib
+    raw = b"".join(b"\x00" + bytes(c for t in texels[y * width:(y + 1) * width] for c in t) for y in range(height))
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+    png = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 6, 0, 0, 0))
+    png += chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b"")
+    os.makedirs(os.path.dirname(path(name)), exist_ok=True)
+    with open(path(name), "wb") as f:
+        f.write(png)
+
+
+def uv_texture(stage, at, file, output, **inputs):
+    tex = UsdShade.Shader.Define(stage, at)
+    tex.CreateIdAttr("UsdUVTexture")
+    if file is not None:
+        tex.CreateInput("file", Sdf.ValueTypeNames.Asset).Set(file)
+    types = {"wrapS": Sdf.ValueTypeNames.Token, "wrapT": Sdf.ValueTypeNames.Token,
+             "sourceColorSpace": Sdf.ValueTypeNames.Token, "scale": Sdf.ValueTypeNames.Float4,
+             "bias": Sdf.ValueTypeNames.Float4}
+    for k, v in inputs.items():
+        tex.CreateInput(k, types[k]).Set(v)
+    tex.CreateOutput(output, Sdf.ValueTypeNames.Float3 if output == "rgb" else Sdf.ValueTypeNames.Float)
+    return tex
+
+
+def textures():
+    """textures.usda: UsdUVTexture inputs: a base colour through UsdTransform2d with wrap modes
+    and a scale, separate roughness (r) and metallic (g) images packed by the importer, a
+    normal map with the standard scale/bias, a file given by a Material interface input, and
+    a textured quad whose st runs over the image."""
+    write_png("tex/albedo.png", 4, 2, [(255, 0, 0, 255), (0, 255, 0, 255), (0, 0, 255, 255), (255, 255, 255, 255),
+                                       (10, 20, 30, 255), (40, 50, 60, 255), (70, 80, 90, 255), (0, 0, 0, 255)])
+    write_png("tex/rough.png", 2, 2, [(200, 0, 0, 255), (100, 0, 0, 255), (50, 0, 0, 255), (0, 0, 0, 255)])
+    write_png("tex/metal.png", 1, 1, [(0, 77, 0, 255)])
+    write_png("tex/normal.png", 1, 1, [(128, 128, 255, 255)])
+    stage = Usd.Stage.CreateNew(path("textures.usda"))
+    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.y)
+    UsdGeom.SetStageMetersPerUnit(stage, 1.0)
+    world = UsdGeom.Xform.Define(stage, "/World")
+    stage.SetDefaultPrim(world.GetPrim())
+    mat = UsdShade.Material.Define(stage, "/World/Looks/Painted")
+    surf = UsdShade.Shader.Define(stage, "/World/Looks/Painted/Surface")
+    surf.CreateIdAttr("UsdPreviewSurface")
+    reader = UsdShade.Shader.Define(stage, "/World/Looks/Painted/St")
+    reader.CreateIdAttr("UsdPrimvarReader_float2")
+    reader.CreateInput("varname", Sdf.ValueTypeNames.Token).Set("st")
+    reader.CreateOutput("result", Sdf.ValueTypeNames.Float2)
+    xf = UsdShade.Shader.Define(stage, "/World/Looks/Painted/Place")
+    xf.CreateIdAttr("UsdTransform2d")
+    xf.CreateInput("in", Sdf.ValueTypeNames.Float2).ConnectToSource(reader.ConnectableAPI(), "result")
+    xf.CreateInput("scale", Sdf.ValueTypeNames.Float2).Set(Gf.Vec2f(2, 1))
+    xf.CreateInput("rotation", Sdf.ValueTypeNames.Float).Set(90.0)
+    xf.CreateInput("translation", Sdf.ValueTypeNames.Float2).Set(Gf.Vec2f(0.5, 0.25))
+    xf.CreateOutput("result", Sdf.ValueTypeNames.Float2)
+    # the albedo's file comes from the material's interface
+    mat.CreateInput("albedoFile", Sdf.ValueTypeNames.Asset).Set("./tex/albedo.png")
+    albedo = uv_texture(stage, "/World/Looks/Painted/Albedo", None, "rgb", wrapS="clamp", wrapT="mirror",
+                        scale=Gf.Vec4f(0.5, 0.5, 0.5, 1))
+    albedo.CreateInput("file", Sdf.ValueTypeNames.Asset).ConnectToSource(mat.GetInput("albedoFile"))
+    albedo.CreateInput("st", Sdf.ValueTypeNames.Float2).ConnectToSource(xf.ConnectableAPI(), "result")
+    rough = uv_texture(stage, "/World/Looks/Painted/Rough", "./tex/rough.png", "r", sourceColorSpace="raw")
+    metal = uv_texture(stage, "/World/Looks/Painted/Metal", "./tex/metal.png", "g", sourceColorSpace="raw",
+                       scale=Gf.Vec4f(1, 0.5, 1, 1))
+    normal = uv_texture(stage, "/World/Looks/Painted/Normal", "./tex/normal.png", "rgb", sourceColorSpace="raw",
+                        scale=Gf.Vec4f(2, 2, 2, 1), bias=Gf.Vec4f(-1, -1, -1, 0))
+    surf.CreateInput("diffuseColor", Sdf.ValueTypeNames.Color3f).ConnectToSource(albedo.ConnectableAPI(), "rgb")
+    surf.CreateInput("roughness", Sdf.ValueTypeNames.Float).ConnectToSource(rough.ConnectableAPI(), "r")
+    surf.CreateInput("metallic", Sdf.ValueTypeNames.Float).ConnectToSource(metal.ConnectableAPI(), "g")
+    surf.CreateInput("normal", Sdf.ValueTypeNames.Normal3f).ConnectToSource(normal.ConnectableAPI(), "rgb")
+    mat.CreateSurfaceOutput().ConnectToSource(surf.ConnectableAPI(), "surface")
+    quad = UsdGeom.Mesh.Define(stage, "/World/Quad")
+    quad.CreatePointsAttr([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)])
+    quad.CreateFaceVertexCountsAttr([4])
+    quad.CreateFaceVertexIndicesAttr([0, 1, 2, 3])
+    quad.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
+    st = UsdGeom.PrimvarsAPI(quad).CreatePrimvar("st", Sdf.ValueTypeNames.TexCoord2fArray, UsdGeom.Tokens.vertex)
+    st.Set([(0, 0), (1, 0), (1, 1), (0, 1)])
+    UsdShade.MaterialBindingAPI.Apply(quad.GetPrim()).Bind(mat)
+    stage.GetRootLayer().Save()
+    return stage
+
+
+def expected_textures(stage):
+    """Per UsdUVTexture of the material: the file Pixar resolves (relative to the fixture
+    folder), the output read, wrap modes, scale and bias as composed."""
+    out = {"file": "textures.usda", "textures": {}}
+    for prim in stage.Traverse():
+        sh = UsdShade.Shader(prim)
+        if not sh or sh.GetIdAttr().Get() != "UsdUVTexture":
+            continue
+        f = sh.GetInput("file")
+        src = f.GetValueProducingAttributes()[0] if f.HasConnectedSource() else f.GetAttr()
+        resolved = src.Get().resolvedPath
+        def get(name, default):
+            i = sh.GetInput(name)
+            return i.Get() if i and i.Get() is not None else default
+        out["textures"][str(prim.GetPath())] = {
+            "file": os.path.relpath(resolved, HERE),
+            "wrapS": get("wrapS", "useMetadata"),
+            "wrapT": get("wrapT", "useMetadata"),
+            "scale": list(get("scale", Gf.Vec4f(1, 1, 1, 1))),
+            "bias": list(get("bias", Gf.Vec4f(0, 0, 0, 0))),
+        }
+    return out
+
+
 def expected_shapes(stage):
     """Pixar's world-space bounds of each implicit shape, the world points of every visible
     PointInstancer instance's meshes (in instance order), and the moving mesh at two times."""
@@ -376,7 +485,7 @@ def expected(stage, file):
 
 if __name__ == "__main__":
     result = [expected(scene(), "scene.usda"), expected(lights(), "lights.usda"), expected(composed(), "composed.usdc"),
-              expected_shapes(shapes())]
+              expected_shapes(shapes()), expected_textures(textures())]
     with open(path("expected.json"), "w") as f:
         json.dump(result, f, indent=1, sort_keys=True)
         f.write("\n")
