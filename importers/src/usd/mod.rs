@@ -212,10 +212,10 @@ pub fn import_usd(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Import
     let pseudo_root = stage.prim(sdf::Path::abs_root());
     let children =
         |p: &Prim| p.children().map_err(|e| err(ImportErrorKind::Syntax, path, p.path().as_str(), format!("{e:#}")));
-    // (prim, parent's local-to-world in stage units, depth)
-    let mut stack: Vec<(Prim, DMat4, usize)> =
-        children(&pseudo_root)?.into_iter().rev().map(|p| (p, DMat4::IDENTITY, 0)).collect();
-    while let Some((prim, parent, depth)) = stack.pop() {
+    // (prim, parent's local-to-world in stage units, depth, a PointInstancer's prototype root)
+    let mut stack: Vec<(Prim, DMat4, usize, bool)> =
+        children(&pseudo_root)?.into_iter().rev().map(|p| (p, DMat4::IDENTITY, 0, false)).collect();
+    while let Some((prim, parent, depth, prototype)) = stack.pop() {
         let at = prim.path().as_str().to_string();
         visits += 1;
         if visits > MAX_USD_PRIMS || depth > MAX_USD_DEPTH {
@@ -229,7 +229,11 @@ pub fn import_usd(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Import
             ));
         }
         let ty = prim.type_name().ok().flatten().map(|t| t.as_str().to_string()).unwrap_or_default();
-        if !prim.is_active().unwrap_or(true)
+        // Pixar's default traversal: defined prims only (an `over` without a `def` and `class`
+        // prims are not drawn), except the prototypes an instancer draws (often under an `over`)
+        let defining = prim.specifier().ok().flatten().is_none_or(|sp| sp == sdf::Specifier::Def);
+        if !(defining || prototype)
+            || !prim.is_active().unwrap_or(true)
             || matches!(ty.as_str(), "Material" | "Shader" | "NodeGraph" | "GeomSubset")
         {
             continue;
@@ -237,7 +241,10 @@ pub fn import_usd(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Import
         let view = AnyXformable(prim.clone());
         let visibility = value::token(&prim, "visibility").map_err(|e| attr_err(path, &at, e))?;
         let purpose = value::token(&prim, "purpose").map_err(|e| attr_err(path, &at, e))?;
-        if visibility.as_deref() == Some("invisible") || matches!(purpose.as_deref(), Some("proxy" | "guide")) {
+        // rendered purposes: default and render (proxy, guide and unknown tokens are not drawn)
+        if visibility.as_deref() == Some("invisible")
+            || !matches!(purpose.as_deref(), None | Some("default" | "render"))
+        {
             continue;
         }
         let local = view
@@ -282,7 +289,7 @@ pub fn import_usd(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Import
             "PointInstancer" => {
                 // the prototypes are drawn through the instances only
                 for (proto, m) in instancer::instances(&prim).map_err(|e| attr_err(path, &at, e))?.into_iter().rev() {
-                    stack.push((stage.prim(proto), world * m, depth + 1));
+                    stack.push((stage.prim(proto), world * m, depth + 1, true));
                 }
                 continue;
             }
@@ -298,6 +305,14 @@ pub fn import_usd(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Import
                         m.material = mi;
                         m.source = SourceLocation { file: path.to_owned(), line: None, item: Some(at.clone()) };
                         triangles += m.indices.len() as u64;
+                        if triangles > MAX_SCENE_TRIANGLES {
+                            return Err(err(
+                                ImportErrorKind::TooLarge,
+                                path,
+                                &at,
+                                format!("the scene would have more than {MAX_SCENE_TRIANGLES} triangles"),
+                            ));
+                        }
                         meshes.push(m);
                     }
                     UsdLight::Skipped(why) => warnings.push(format!("{}: {at}: {why}; skipped", path.display())),
@@ -361,7 +376,7 @@ pub fn import_usd(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Import
             _ => children(&prim)?,
         };
         for c in kids.into_iter().rev() {
-            stack.push((c, world, depth + 1));
+            stack.push((c, world, depth + 1, false));
         }
     }
     if meshes.is_empty() && lights.is_empty() {
