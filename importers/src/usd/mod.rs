@@ -79,6 +79,20 @@ fn err(kind: ImportErrorKind, file: &Path, at: &str, msg: impl std::fmt::Display
     ImportError::new(kind, ErrorPlace::file(file), format!("prim <{at}>: {msg}"))
 }
 
+/// Counts `n` more triangles of the prim `at`, refusing a scene over [`MAX_SCENE_TRIANGLES`].
+fn add_triangles(total: &mut u64, n: usize, file: &Path, at: &str) -> Result<(), ImportError> {
+    *total += n as u64;
+    if *total > MAX_SCENE_TRIANGLES {
+        return Err(err(
+            ImportErrorKind::TooLarge,
+            file,
+            at,
+            format!("the scene would have more than {MAX_SCENE_TRIANGLES} triangles"),
+        ));
+    }
+    Ok(())
+}
+
 fn attr_err(file: &Path, at: &str, (attr, msg): (String, String)) -> ImportError {
     err(ImportErrorKind::InvalidValue, file, at, format!("attribute `{attr}`: {msg}"))
 }
@@ -304,15 +318,7 @@ pub fn import_usd(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Import
                         let mi = *light_material.get_or_insert_with(|| mats.light_material(path));
                         m.material = mi;
                         m.source = SourceLocation { file: path.to_owned(), line: None, item: Some(at.clone()) };
-                        triangles += m.indices.len() as u64;
-                        if triangles > MAX_SCENE_TRIANGLES {
-                            return Err(err(
-                                ImportErrorKind::TooLarge,
-                                path,
-                                &at,
-                                format!("the scene would have more than {MAX_SCENE_TRIANGLES} triangles"),
-                            ));
-                        }
+                        add_triangles(&mut triangles, m.indices.len(), path, &at)?;
                         meshes.push(m);
                     }
                     UsdLight::Skipped(why) => warnings.push(format!("{}: {at}: {why}; skipped", path.display())),
@@ -326,15 +332,7 @@ pub fn import_usd(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Import
             _ => None,
         };
         if let Some((local_mesh, subsets)) = geometry {
-            triangles += local_mesh.mesh.indices.len() as u64;
-            if triangles > MAX_SCENE_TRIANGLES {
-                return Err(err(
-                    ImportErrorKind::TooLarge,
-                    path,
-                    &at,
-                    format!("the scene would have more than {MAX_SCENE_TRIANGLES} triangles"),
-                ));
-            }
+            add_triangles(&mut triangles, local_mesh.mesh.indices.len(), path, &at)?;
             let bound = material::bound_material(&stage, &prim);
             if value::raw(&prim, "primvars:displayColor").ok().flatten().is_some() && bound.is_none() {
                 warn_once(
