@@ -6,6 +6,7 @@
 //! Every error is an [`ImportError`] whose message starts with `file:line:col:`.
 #![warn(missing_docs)]
 
+pub mod asset;
 pub mod bsdf_file;
 pub mod env_map;
 pub mod error;

@@ -377,6 +377,31 @@ fn uv_textures_match_pixar_resolution_and_pack_like_gltf() {
     assert_eq!(m.textures.normal_scale, 1.0);
 }
 
+/// `textures.usdz`: the same stage packaged with its images by Pixar's `UsdUtils`
+/// (`CreateNewUsdzPackage`): Pixar resolves every texture to an entry of the package
+/// (`textures.usdz[tex/albedo.png]`), and the importer reads those entries to the very texels,
+/// materials and triangles the loose `textures.usda` gives.
+#[test]
+fn usdz_packages_read_their_images_from_the_package() {
+    let loose = import("textures.usda");
+    let packed = import("textures.usdz");
+    assert!(packed.warnings.is_empty(), "{:?}", packed.warnings);
+    let exp = expected("textures.usdz");
+    for (prim, e) in exp["textures"].as_object().unwrap() {
+        let file = e["file"].as_str().unwrap();
+        assert!(file.starts_with("textures.usdz[tex/") && file.ends_with(']'), "{prim}: Pixar resolved {file}");
+    }
+    assert_eq!(packed.textures.len(), loose.textures.len());
+    for (p, l) in packed.textures.iter().zip(&loose.textures) {
+        assert_eq!((&p.name, p.width, p.height, &p.texels), (&l.name, l.width, l.height, &l.texels));
+        assert_eq!((p.wrap_u, p.wrap_v), (l.wrap_u, l.wrap_v));
+    }
+    let (pm, lm) = (mesh(&packed, "/World/Quad"), mesh(&loose, "/World/Quad"));
+    assert_eq!((&pm.positions, &pm.indices), (&lm.positions, &lm.indices));
+    let (a, b) = (&packed.materials[pm.material].textures, &loose.materials[lm.material].textures);
+    assert_eq!(format!("{a:?}"), format!("{b:?}"));
+}
+
 /// A texture file that does not exist is an error naming the stage, the texture prim and the file.
 #[test]
 fn missing_texture_files_are_errors_naming_the_prim() {

@@ -3,7 +3,7 @@
 //!
 //! | UsdUVTexture input (default) | quasar |
 //! |---|---|
-//! | `file` (asset, resolved against the layer that authored it, also through a Material interface input) | the PNG/JPEG image; `.usdz`-embedded images are not read (warning) |
+//! | `file` (asset, resolved against the layer that authored it, also through a Material interface input) | the PNG/JPEG image, also an entry of the `.usdz` package the stage is in (`pkg.usdz[tex/a.png]`) |
 //! | output `rgb` / `r` / `g` / `b` / `a` | the channel(s) the input reads |
 //! | `wrapS` / `wrapT` (`useMetadata`) | `repeat` (also for `useMetadata`), `mirror`, `clamp`; `black` is clamped (warning) |
 //! | `scale` (1, 1, 1, 1) | multiplies the texel: the factor of the quasar texture |
@@ -18,7 +18,8 @@ use openusd::sdf;
 use openusd::usd::{Prim, Stage};
 
 use super::value;
-use crate::error::{ErrorPlace, ImportError, ImportErrorKind};
+use crate::asset::{file_name, read_asset};
+use crate::error::{ErrorPlace, ImportError};
 use crate::scene_desc::SourceLocation;
 use crate::texture_decode::{MAX_TEXTURE_ALLOC, decode_image};
 use crate::texture_desc::{TextureDesc, TextureRef, TextureWrap};
@@ -163,10 +164,6 @@ pub(super) fn find(
                 notes.push(format!("{at}: inputs:file is not set; the input's value is used"));
                 return None;
             };
-            if file.to_string_lossy().contains(".usdz[") {
-                notes.push(format!("{at}: images inside a .usdz are not read yet; the input's value is used"));
-                return None;
-            }
             let wrap = (wrap(&p, "inputs:wrapS", notes, &at), wrap(&p, "inputs:wrapT", notes, &at));
             let raw = value::token(&p, "inputs:sourceColorSpace").ok().flatten().as_deref() == Some("raw");
             let transform = st_transform(stage, &p, notes, &at);
@@ -202,14 +199,10 @@ impl TextureSet {
         }
         let place = format!("prim <{}>: inputs:file `{}`", t.at, t.file.display());
         let fail = |kind, msg: String| ImportError::new(kind, ErrorPlace::file(stage_file), format!("{place}: {msg}"));
-        let len = std::fs::metadata(&t.file).map_err(|e| fail(ImportErrorKind::MissingFile, e.to_string()))?.len();
-        if len > MAX_TEXTURE_ALLOC {
-            return Err(fail(ImportErrorKind::TooLarge, format!("{len} bytes is more than {MAX_TEXTURE_ALLOC}")));
-        }
-        let bytes = std::fs::read(&t.file).map_err(|e| fail(ImportErrorKind::Io, e.to_string()))?;
+        let bytes = read_asset(&t.file, MAX_TEXTURE_ALLOC).map_err(|(kind, msg)| fail(kind, msg))?;
         let (width, height, texels) = decode_image(&bytes, stage_file, &place)?;
         self.descs.push(TextureDesc {
-            name: t.file.file_name().map_or_else(|| t.at.clone(), |n| n.to_string_lossy().into_owned()),
+            name: file_name(&t.file).unwrap_or_else(|| t.at.clone()),
             width,
             height,
             texels,

@@ -394,6 +394,20 @@ def expected_textures(stage):
     return out
 
 
+def usdz():
+    """textures.usdz: textures.usda and its images packaged by Pixar's UsdUtils (the images become
+    package entries, resolved as `textures.usdz[tex/albedo.png]`)."""
+    from pxr import UsdUtils
+    out = path("textures.usdz")
+    if os.path.exists(out):
+        os.remove(out)
+    assert UsdUtils.CreateNewUsdzPackage(Sdf.AssetPath(path("textures.usda")), out)
+    stage = Usd.Stage.Open(out)
+    result = expected_textures(stage)
+    result["file"] = "textures.usdz"
+    return result
+
+
 def expected_shapes(stage):
     """Pixar's world-space bounds of each implicit shape, the world points of every visible
     PointInstancer instance's meshes (in instance order), and the moving mesh at two times."""
@@ -485,7 +499,7 @@ def expected(stage, file):
 
 if __name__ == "__main__":
     result = [expected(scene(), "scene.usda"), expected(lights(), "lights.usda"), expected(composed(), "composed.usdc"),
-              expected_shapes(shapes()), expected_textures(textures())]
+              expected_shapes(shapes()), expected_textures(textures()), usdz()]
     with open(path("expected.json"), "w") as f:
         json.dump(result, f, indent=1, sort_keys=True)
         f.write("\n")
