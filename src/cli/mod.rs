@@ -12,6 +12,7 @@ use anyhow::Result;
 use clap::{Parser, Subcommand};
 use quasar::core::scene::Scene;
 use quasar::render::job::load_scene_with;
+use quasar::tools::import_bench;
 use quasar_importers::ImportOptions;
 
 use self::parse::{parse_units, same_file};
@@ -171,6 +172,18 @@ enum BenchCommand {
         #[arg(long)]
         file: Option<PathBuf>,
     },
+    /// Import time and peak memory of a large generated USD crate file (a k x k quad grid as .usdc).
+    UsdImport {
+        /// Grid side k: k^2 quads, 2 k^2 triangles (708 gives 1 002 528).
+        #[arg(long, default_value_t = 708)]
+        grid: u32,
+        /// Where to write the stage (default: a temporary directory); a `.usda` name writes text.
+        #[arg(long)]
+        file: Option<PathBuf>,
+        /// Measure this existing scene file instead of writing one (e.g. a Pixar-written .usdc).
+        #[arg(long, conflicts_with = "file")]
+        input: Option<PathBuf>,
+    },
 }
 
 /// Loads `scene`, printing its import warnings.
@@ -242,7 +255,12 @@ fn run_tool(command: Command) -> Result<()> {
         }
         Command::Bench { what } => match what {
             BenchCommand::GltfImport { grid, file } => {
-                print!("{}", quasar::tools::import_bench::bench(grid, file.as_deref())?);
+                print!("{}", import_bench::bench(import_bench::GridFormat::Glb, grid, file.as_deref(), None)?);
+                Ok(())
+            }
+            BenchCommand::UsdImport { grid, file, input } => {
+                let format = import_bench::GridFormat::Usdc;
+                print!("{}", import_bench::bench(format, grid, file.as_deref(), input.as_deref())?);
                 Ok(())
             }
             BenchCommand::Convergence {

@@ -25,6 +25,7 @@ mod mesh;
 mod shapes;
 mod texture;
 mod value;
+pub mod writer;
 
 use std::collections::HashMap;
 use std::path::Path;
