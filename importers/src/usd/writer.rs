@@ -1,7 +1,9 @@
 //! Writing a large single-mesh stage for benchmarks and tests: a `Mesh` with `points`,
 //! polygon `faceVertexCounts`/`faceVertexIndices`, vertex `normals` and `primvars:st`, as
 //! `.usda` text or as a `.usdc` crate file (openusd's `CrateWriter`, from the text parsed by
-//! openusd). Not an exporter of scenes.
+//! openusd). Not an exporter of scenes: Pixar's USD 26.11 reads no prims from openusd 0.6.0's
+//! crate files (its path table is decoded differently), so they serve quasar's own benchmarks only;
+//! the text is read by both.
 
 use std::fmt::Write as _;
 use std::path::Path;
