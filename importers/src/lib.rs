@@ -20,6 +20,7 @@ mod obj_keywords;
 mod obj_lint;
 mod obj_text;
 pub mod photometric;
+pub mod photometry;
 pub mod registry;
 pub mod scene_desc;
 pub mod small_text;
