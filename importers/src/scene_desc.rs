@@ -114,6 +114,21 @@ pub enum LightDesc {
         /// spectra make it a luminance-equivalent value).
         scale: f32,
     },
+    /// Point luminaire with a measured distribution (IES / EULUMDAT, docs/photometry.md): radiant
+    /// intensity I(w, lambda) = scale * spectrum(lambda) * candela(frame^-1 w).
+    Luminaire {
+        /// Photometric centre.
+        position: Vec3,
+        /// Luminaire frame -> world: orthonormal columns C0, C90 and up (the nadir is -column 2).
+        frame: glam::Mat3,
+        /// The candela distribution.
+        web: std::sync::Arc<crate::photometry::PhotometricWeb>,
+        /// Spectral shape, luminance 1.
+        spectrum: Spectrum,
+        /// W/(sr nm) per candela of the unit spectrum: [`crate::photometric::photometric_scale`]
+        /// of 1 cd times the user's and the tilt's factors.
+        scale: f32,
+    },
     /// Environment at infinity: radiance L(lambda) = scale * spectrum from every direction, or
     /// with a lat-long `map`, scale times the light colour of the map's texel in each direction.
     Environment {

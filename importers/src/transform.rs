@@ -70,6 +70,15 @@ pub(crate) fn transform_light(light: &mut LightDesc, m: &Affine3A) {
             *direction = m.transform_vector3(*direction);
         }
         LightDesc::Directional { direction, .. } => *direction = m.transform_vector3(*direction),
+        LightDesc::Luminaire { position, frame, .. } => {
+            *position = m.transform_point3(*position);
+            // the turned frame, made orthonormal again (a scale does not change candela; a
+            // mirror keeps the frame right-handed, C90 on the mirrored side of C0 and up)
+            let up = m.transform_vector3(frame.z_axis).normalize_or(frame.z_axis);
+            let c0 = m.transform_vector3(frame.x_axis);
+            let c0 = (c0 - c0.dot(up) * up).normalize_or(frame.x_axis);
+            *frame = glam::Mat3::from_cols(c0, up.cross(c0), up);
+        }
         LightDesc::Environment { .. } => {}
     }
 }

@@ -9,6 +9,7 @@ use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 
 use crate::core::env_map::EnvMap;
 use crate::core::geometry::TriangleGeom;
+use crate::core::luminaire::Luminaire;
 use crate::core::sampling::{self, Distribution1D};
 
 /// Spectral emission shared by the triangles of one emissive mesh: L = scale * spectrum.
@@ -82,6 +83,8 @@ pub enum Light {
         /// Radius of the scene's bounding sphere (for power).
         scene_radius: f32,
     },
+    /// A point luminaire with a measured intensity distribution (IES / EULUMDAT).
+    Luminaire(std::sync::Arc<Luminaire>),
     /// Radiance from every direction: constant (`spectrum`), or a lat-long `map`.
     Environment {
         /// Radiance spectrum (constant environments).
@@ -107,7 +110,7 @@ pub struct LightSample {
     pub pdf: f32,
     /// Distance to the light sample (infinite for distant lights).
     pub dist: f32,
-    /// True for point/spot/directional lights (no MIS possible).
+    /// True for point/spot/luminaire/directional lights (no MIS possible).
     pub delta: bool,
 }
 
@@ -148,6 +151,7 @@ impl Light {
             Self::Directional { spectrum, scale, scene_radius, .. } => {
                 PI * scene_radius * scene_radius * scale * spectrum.mean_value()
             }
+            Self::Luminaire(l) => l.power(),
             Self::Environment { spectrum, scale, scene_radius, map } => {
                 let mean = map.as_ref().map_or_else(|| spectrum.mean_value(), |m| m.mean_luminance() as f32);
                 4.0 * PI * PI * scene_radius * scene_radius * scale * mean
@@ -211,6 +215,20 @@ impl Light {
                     return None;
                 }
                 let li = spectrum.sample(wl) * (*scale * fall / dist2);
+                Some(LightSample { li, wi, pdf: 1.0, dist, delta: true })
+            }
+            Self::Luminaire(l) => {
+                let d = l.position - p;
+                let dist2 = d.length_squared();
+                if dist2.is_nan() || dist2 <= 0.0 {
+                    return None;
+                }
+                let dist = dist2.sqrt();
+                let wi = d / dist;
+                let li = l.intensity(-wi, wl) * (1.0 / dist2);
+                if li.is_black() {
+                    return None;
+                }
                 Some(LightSample { li, wi, pdf: 1.0, dist, delta: true })
             }
             Self::Directional { direction, spectrum, scale, .. } => Some(LightSample {
@@ -283,6 +301,7 @@ impl Light {
     /// Samples a photon leaving this light (pbrt-v4 `SampleLe`): area lights pick a uniform
     /// point and a cosine-weighted direction (flux = pi A Le per side), point lights a uniform
     /// direction (4 pi I), spot lights a uniform direction in their cone (I falloff / pdf),
+    /// luminaires a direction by their candela table (I / pdf),
     /// distant lights a uniform point on a disk of the scene's bounding sphere (centre `center`)
     /// perpendicular to the direction of travel (E pi R^2 and 4 pi Le pi R^2).
     pub fn sample_emission(
@@ -338,6 +357,10 @@ impl Light {
                 let pdf = 1.0 / (2.0 * PI * (1.0 - *cos_total));
                 let fall = Self::spot_falloff(frame, *cos_total, *cos_falloff_start, dir);
                 EmittedPhoton { origin: *position, dir, flux: spectrum.sample(wl) * (*scale * fall / pdf) }
+            }
+            Self::Luminaire(l) => {
+                let (dir, pdf) = l.sample_direction(u_dir)?;
+                EmittedPhoton { origin: l.position, dir, flux: l.intensity(dir, wl) * (1.0 / pdf) }
             }
             Self::Directional { direction, spectrum, scale, scene_radius } => {
                 let origin = disk_origin(center, *scene_radius, *direction, u_pos);

@@ -7,6 +7,7 @@ pub mod camera;
 pub mod env_map;
 pub mod geometry;
 pub mod light;
+pub mod luminaire;
 pub mod sampling;
 pub mod scene;
 pub mod texture;

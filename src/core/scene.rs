@@ -317,6 +317,19 @@ impl Scene {
                     }
                     Light::Directional { direction: d, spectrum: spectrum.clone(), scale: *scale, scene_radius: radius }
                 }
+                LightDesc::Luminaire { position, frame, web, spectrum, scale } => {
+                    if !position.is_finite() || !frame.is_finite() || !scale.is_finite() || *scale < 0.0 {
+                        return Err(lerr("luminaire position, orientation and scale must be finite"));
+                    }
+                    let l = crate::core::luminaire::Luminaire::new(
+                        *position,
+                        *frame,
+                        web.clone(),
+                        spectrum.clone(),
+                        *scale,
+                    );
+                    Light::Luminaire(std::sync::Arc::new(l))
+                }
                 LightDesc::Environment { spectrum, scale, map } => Light::Environment {
                     spectrum: spectrum.clone(),
                     scale: *scale,

@@ -26,7 +26,7 @@ pub struct SceneAnalysis {
     pub specular: Vec<String>,
     /// Materials with a wavelength-dependent IOR (secondary wavelengths are terminated there).
     pub dispersive: Vec<String>,
-    /// Light counts: area triangles, point, spot, directional, environment.
+    /// Light counts: area triangles, point (and luminaire), spot, directional, environment.
     pub lights: [usize; 5],
     /// True when light can reach a non-specular surface through specular or narrow events
     /// (caustics), i.e. a specular or narrow material and at least one light exist.
@@ -58,7 +58,7 @@ impl SceneAnalysis {
         for l in &scene.lights {
             let k = match l {
                 Light::Area { .. } => 0,
-                Light::Point { .. } => 1,
+                Light::Point { .. } | Light::Luminaire(_) => 1,
                 Light::Spot { .. } => 2,
                 Light::Directional { .. } => 3,
                 Light::Environment { .. } => 4,
@@ -96,7 +96,9 @@ impl SceneAnalysis {
             }
         );
         let [a, p, sp, d, e] = self.lights;
-        s += &format!("lights: {a} emissive triangles, {p} point, {sp} spot, {d} directional, {e} environment\n");
+        s += &format!(
+            "lights: {a} emissive triangles, {p} point or luminaire, {sp} spot, {d} directional, {e} environment\n"
+        );
         s += &format!("auto method: {}\n", self.auto_method().name);
         s
     }

@@ -212,6 +212,9 @@ pub fn export(desc: &SceneDesc, width: u32, height: u32, spp: u32) -> Result<Mit
                 vec3(*direction),
                 spectrum_tag("irradiance", spectrum, *scale)
             ),
+            LightDesc::Luminaire { .. } => {
+                return Err("a luminaire (Mitsuba 3 has no measured-distribution emitter)".into());
+            }
             LightDesc::Environment { map: Some(_), .. } => {
                 return Err("an environment map (Mitsuba uplifts its RGB texels its own way)".into());
             }

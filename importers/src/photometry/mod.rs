@@ -182,6 +182,35 @@ impl PhotometricWeb {
     }
 }
 
+/// Reads the photometric file at `path` by its extension (`.ies`: IES LM-63, `.ldt`: EULUMDAT):
+/// its web and, for an IES file with tilt data, the tilt table.
+pub fn read_photometric_file(
+    path: &std::path::Path,
+) -> Result<(PhotometricWeb, Option<ies::TiltTable>), crate::ImportError> {
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("ies") => ies::read_ies(path).map(|f| (f.web, f.tilt)),
+        Some("ldt") => eulumdat::read_ldt(path).map(|f| (f.web, None)),
+        _ => Err(crate::ImportError::new(
+            crate::ImportErrorKind::Unsupported,
+            crate::ErrorPlace::file(path),
+            "photometric files must be .ies (IES LM-63) or .ldt (EULUMDAT)",
+        )),
+    }
+}
+
+/// The luminaire frame (columns C0, C90, up) of a luminaire aimed along `aim` (its nadir points
+/// there) and turned by `roll_deg` about the aim: the frame of a luminaire hanging straight down
+/// (C0 along world +X, C90 along -Z, up +Y) turned by the shortest rotation taking -Y to `aim`,
+/// then rolled counter-clockwise seen from behind the luminaire (looking along `aim`).
+pub fn aim_frame(aim: Vec3, roll_deg: f32) -> glam::Mat3 {
+    let a = aim.normalize();
+    let hanging = glam::Mat3::from_cols(Vec3::X, Vec3::NEG_Z, Vec3::Y);
+    let turn = glam::Quat::from_rotation_arc(Vec3::NEG_Y, a);
+    let roll = glam::Quat::from_axis_angle(a, -roll_deg.to_radians());
+    glam::Mat3::from_quat(roll * turn) * hanging
+}
+
 /// The interval of the increasing `xs` holding `x`: (index of its lower end, fraction); None
 /// outside [first, last] (a single value brackets only itself).
 fn bracket(xs: &[f32], x: f32) -> Option<(usize, f32)> {
@@ -280,5 +309,20 @@ pub(crate) mod tests {
         a.kind = PhotometricType::A;
         assert_eq!(a.angles(Vec3::X), (0.0, 0.0));
         assert!((a.angles(Vec3::NEG_Z).1 + 90.0).abs() < 1e-4);
+    }
+
+    #[test]
+    fn aimed_frames_stay_orthonormal_and_point_their_nadir() {
+        let down = aim_frame(Vec3::NEG_Y, 0.0);
+        assert!((down.x_axis - Vec3::X).length() < 1e-6 && (down.y_axis - Vec3::NEG_Z).length() < 1e-6);
+        for (aim, roll) in [(Vec3::new(1.0, -1.0, 0.0), 30.0), (Vec3::Y, 0.0), (Vec3::new(0.0, 0.0, -1.0), -90.0)] {
+            let f = aim_frame(aim, roll);
+            assert!((-f.z_axis - aim.normalize()).length() < 1e-5, "{aim}: nadir {}", -f.z_axis);
+            assert!((f.determinant() - 1.0).abs() < 1e-5 && f.x_axis.dot(f.y_axis).abs() < 1e-5);
+        }
+        // rolling by 90 degrees about straight down turns C0 from +X to -Z (counter-clockwise
+        // seen from behind, i.e. from above)
+        let rolled = aim_frame(Vec3::NEG_Y, 90.0);
+        assert!((rolled.x_axis - Vec3::NEG_Z).length() < 1e-5, "{}", rolled.x_axis);
     }
 }

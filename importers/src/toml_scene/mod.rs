@@ -6,6 +6,7 @@
 //! file, line and column of the offending key, value or table.
 
 mod include;
+mod luminaire;
 mod material;
 mod settings;
 mod shape;
@@ -41,7 +42,7 @@ pub const MAX_INCLUDE_DEPTH: u32 = 8;
 /// Shape types of `[[shape]]`.
 pub const SHAPE_TYPES: [&str; 4] = ["mesh", "quad", "sphere", "disk"];
 /// Light types of `[[light]]`.
-pub const LIGHT_TYPES: [&str; 4] = ["point", "spot", "directional", "environment"];
+pub const LIGHT_TYPES: [&str; 5] = ["point", "spot", "directional", "luminaire", "environment"];
 
 const TOP_KEYS: [&str; 8] = ["units", "render", "camera", "materials", "shape", "light", "include", "override"];
 

@@ -78,14 +78,19 @@ pub(super) fn light(t: &Tbl<'_>, unit: f32) -> Result<LightDesc, ImportError> {
         "point" => &["position"],
         "spot" => &["position", "target", "direction", "cone_deg", "falloff_start_deg"],
         "directional" => &["direction"],
+        "luminaire" => &super::luminaire::LUMINAIRE_KEYS,
         _ => &["file", "rotate_deg"],
     };
     t.check_keys(&[&["type", "spectrum", "scale"][..], own].concat())?;
-    let spectrum = match t.get("spectrum") {
-        Some(v) => spectrum::spectrum(doc, v, &t.key_path("spectrum"), SpectrumUse::Emission)?,
-        None => Spectrum::Constant(1.0),
+    let given = match t.get("spectrum") {
+        Some(v) => Some(spectrum::spectrum(doc, v, &t.key_path("spectrum"), SpectrumUse::Emission)?),
+        None => None,
     };
     let scale = t.opt_f32_where("scale", "finite and >= 0", |s| s >= 0.0)?.unwrap_or(1.0);
+    if ty == "luminaire" {
+        return super::luminaire::luminaire(t, unit, given, scale);
+    }
+    let spectrum = given.unwrap_or(Spectrum::Constant(1.0));
     let light = match ty {
         "point" => {
             let position = t.opt_point("position", unit)?.ok_or_else(|| t.missing("position"))?;

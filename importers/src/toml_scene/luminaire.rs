@@ -1,0 +1,73 @@
+//! `[[light]] type = "luminaire"`: a point luminaire from an IES (`.ies`) or EULUMDAT (`.ldt`)
+//! file (docs/photometry.md).
+//!
+//! | key | meaning | default |
+//! |---|---|---|
+//! | `file` | the photometric file, relative to the scene | required |
+//! | `position` | photometric centre (scene units) | required |
+//! | `target` / `direction` | where the nadir (gamma 0) points | straight down |
+//! | `roll_deg` | turn about the aim, counter-clockwise seen from behind | 0 |
+//! | `spectrum` | spectral shape, scaled to luminance 1 | D65 white |
+//! | `scale` | factor on the file's candela (e.g. a dimming level or lumen maintenance) | 1 |
+//!
+//! The candela come out in cd: radiant intensity = candela x `scale` x tilt factor x
+//! spectrum / (683 lm/W x integral of ybar) per unit of the luminance-1 spectrum. An IES tilt
+//! table is read at the angle between the aim and straight down.
+
+use std::sync::Arc;
+
+use glam::Vec3;
+use quasar_materials::spectrum::Spectrum;
+
+use crate::error::ImportError;
+use crate::photometric::photometric_scale;
+use crate::photometry::{aim_frame, read_photometric_file};
+use crate::scene_desc::LightDesc;
+use crate::toml_reader::Tbl;
+
+/// The keys of a luminaire besides `type`, `spectrum` and `scale`.
+pub(super) const LUMINAIRE_KEYS: [&str; 5] = ["file", "position", "target", "direction", "roll_deg"];
+
+/// Reads a luminaire `[[light]]` table whose `spectrum` (None: not given) and `scale` are read.
+pub(super) fn luminaire(
+    t: &Tbl<'_>,
+    unit: f32,
+    spectrum: Option<Spectrum>,
+    scale: f32,
+) -> Result<LightDesc, ImportError> {
+    let doc = t.doc;
+    let v = t.get("file").ok_or_else(|| t.missing("file"))?;
+    let name = crate::toml_reader::string(doc, v, &t.key_path("file"))?;
+    let (web, tilt) = read_photometric_file(&doc.resolve(name)).map_err(|e| e.included_from(doc.place(&v.span())))?;
+    let position = t.opt_point("position", unit)?.ok_or_else(|| t.missing("position"))?;
+    t.exclusive(&["target", "direction"])?;
+    let aim = if let Some(target) = t.opt_point("target", unit)? {
+        let d = target - position;
+        if !d.is_finite() || d.length_squared() <= 0.0 {
+            return Err(doc.invalid(&t.key_span("target"), format!("`{}`: target must differ from position", t.path)));
+        }
+        d
+    } else {
+        t.opt_dir("direction")?.unwrap_or(Vec3::NEG_Y)
+    };
+    let roll = t.opt_f32_where("roll_deg", "finite", f32::is_finite)?.unwrap_or(0.0);
+    let spectrum = match spectrum {
+        Some(s) => s,
+        None => Spectrum::rgb_illuminant([1.0; 3]).expect("white is a valid light colour"),
+    };
+    let y = spectrum.luminance();
+    if !(y.is_finite() && y > 0.0) {
+        let at = t.key_span("spectrum");
+        return Err(doc.invalid(&at, format!("`{}`: the spectrum has no luminance to scale candela by", t.path)));
+    }
+    let aim = aim.normalize();
+    let tilt_deg = aim.dot(Vec3::NEG_Y).clamp(-1.0, 1.0).acos().to_degrees();
+    let tilt_factor = tilt.as_ref().map_or(1.0, |t| t.factor(tilt_deg));
+    Ok(LightDesc::Luminaire {
+        position,
+        frame: aim_frame(aim, roll),
+        web: Arc::new(web),
+        spectrum,
+        scale: photometric_scale(1.0) * scale * tilt_factor / y,
+    })
+}

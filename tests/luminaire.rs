@@ -1,0 +1,212 @@
+//! Luminaires from photometric files against closed forms: a point luminaire over a white
+//! Lambertian floor gives each floor point the illuminance E = I(C, gamma) cos(gamma) / d^2 and
+//! the luminance rho E / pi (cd/m^2), which every pixel must show (the analytic value averaged
+//! over the pixel with the camera's own rays). The distribution is asymmetric in C, so a wrong
+//! C0 direction, a mirrored C or a wrong nadir fails the test; the IES and the EULUMDAT file of
+//! the same distribution render the same.
+
+mod common;
+
+use glam::Vec2;
+use quasar::core::camera::Camera;
+use quasar::render::job::JobOverrides;
+use quasar_importers::photometric::LUMINANCE_PER_Y;
+use quasar_importers::photometry::{PhotometricWeb, read_photometric_file};
+
+/// The test distribution: I(C, gamma) = 600 cos(gamma) (1 + 0.5 cos C + 0.25 sin C) cd below the
+/// horizon, 0 above; flux pi x 600 lm.
+fn candela(c_deg: f32, g_deg: f32) -> f32 {
+    let (c, g) = (c_deg.to_radians(), g_deg.to_radians());
+    if g_deg > 90.0 { 0.0 } else { 600.0 * g.cos().max(0.0) * (1.0 + 0.5 * c.cos() + 0.25 * c.sin()) }
+}
+
+const C_STEP: usize = 15;
+const G_STEP: usize = 5;
+
+fn ies_text() -> String {
+    let cs: Vec<usize> = (0..=360).step_by(C_STEP).collect();
+    let gs: Vec<usize> = (0..=90).step_by(G_STEP).collect();
+    let flux = std::f32::consts::PI * 600.0;
+    let mut s = format!(
+        "IESNA:LM-63-2002\n[TEST] quasar tests/luminaire.rs\n[MANUFAC] none\nTILT=NONE\n1 {flux:.3} 1 {} {} 1 2 0 0 0\n1 1 10\n",
+        gs.len(),
+        cs.len()
+    );
+    s += &gs.iter().map(|g| g.to_string()).collect::<Vec<_>>().join(" ");
+    s += "\n";
+    s += &cs.iter().map(|c| c.to_string()).collect::<Vec<_>>().join(" ");
+    s += "\n";
+    for &c in &cs {
+        s += &gs.iter().map(|&g| format!("{:.4}", candela(c as f32, g as f32))).collect::<Vec<_>>().join(" ");
+        s += "\n";
+    }
+    s
+}
+
+/// The same distribution as EULUMDAT (no symmetry, 24 planes, gamma 0..180, cd per 1000 lm of a
+/// 1000 lm lamp set).
+fn ldt_text() -> String {
+    let cs: Vec<usize> = (0..360).step_by(C_STEP).collect();
+    let gs: Vec<usize> = (0..=180).step_by(G_STEP).collect();
+    let mut s =
+        format!("quasar test\n3\n0\n{}\n{C_STEP}\n{}\n{G_STEP}\nreport\nTest\n1\nt.ldt\ntoday\n", cs.len(), gs.len());
+    s += "100\n100\n50\n90\n90\n0\n0\n0\n0\n100\n100\n1\n0\n1\n1\nLED\n1000\n4000K\n1A\n10\n";
+    s += &"0.5\n".repeat(10);
+    for c in &cs {
+        s += &format!("{c}\n");
+    }
+    for g in &gs {
+        s += &format!("{g}\n");
+    }
+    for &c in &cs {
+        for &g in &gs {
+            s += &format!("{:.4}\n", candela(c as f32, g as f32));
+        }
+    }
+    s
+}
+
+const HEIGHT: f32 = 1.5;
+const RHO: f32 = 0.8;
+
+fn scene(file: &str, extra: &str) -> String {
+    format!(
+        r#"
+[render]
+width = 12
+height = 12
+[camera]
+position = [0.3, 2.5, 0.2]
+target = [0.3, 0, 0.2]
+up = [0, 0, -1]
+fov_deg = 100
+[materials.floor]
+type = "diffuse"
+reflectance = {{ constant = {RHO} }}
+[[shape]]
+type = "quad"
+center = [0, 0, 0]
+size = [40, 40]
+normal = [0, 1, 0]
+material = "floor"
+[[light]]
+type = "luminaire"
+file = "{file}"
+position = [0, {HEIGHT}, 0]
+{extra}
+"#
+    )
+}
+
+/// The luminance (cd/m^2) of the floor point hit by the camera ray through film position `f`,
+/// for the luminaire of `web` hanging straight down at (0, HEIGHT, 0) with C0 along +X and C90
+/// along -Z (turned by `roll_deg`): rho I(C, gamma) cos(gamma) / (pi d^2), with I the file's
+/// table as interpolated (its agreement with `candela` at the measured angles is the parsers'
+/// unit tests' business).
+fn analytic(web: &PhotometricWeb, camera: &Camera, f: Vec2, roll_deg: f32) -> f64 {
+    let r = camera.ray(f);
+    let t = -r.origin.y / r.dir.y;
+    let p = r.origin + r.dir * t;
+    let d = p - glam::Vec3::new(0.0, HEIGHT, 0.0);
+    let dist2 = d.length_squared();
+    let w = d / dist2.sqrt();
+    // luminaire frame: x = C0, y = C90, z = up, rolled counter-clockwise seen from above
+    let (s, c) = roll_deg.to_radians().sin_cos();
+    let c0 = glam::Vec3::new(c, 0.0, -s);
+    let c90 = glam::Vec3::new(-s, 0.0, -c);
+    let gamma = (-w.y).acos().to_degrees();
+    let cc = w.dot(c90).atan2(w.dot(c0)).to_degrees().rem_euclid(360.0);
+    let e = web.intensity_at(cc, gamma) * (-w.y) / dist2;
+    f64::from(RHO * e / std::f32::consts::PI)
+}
+
+fn render_and_check(file: &str, text: &str, extra: &str, roll_deg: f32, label: &str) {
+    let s = common::write_scene(&scene(file, extra), &[(file, text)]);
+    let ov = JobOverrides { spp: Some(1024), method: Some("pt".into()), threads: Some(2), ..Default::default() };
+    let img = common::render_file(&s.path, &ov).image;
+    let (y, se) = (img.channel("XYZ.Y").unwrap(), img.channel("stderr.Y").unwrap());
+    let (web, _) = read_photometric_file(&s.dir.path().join(file)).unwrap();
+    let desc = quasar::render::job::load_scene(&s.path).unwrap();
+    let camera = Camera::new(&desc.camera, 12, 12).unwrap();
+    let (mut worst, mut sum_got, mut sum_want, mut var) = (0.0f64, 0.0, 0.0, 0.0);
+    for py in 0..12u32 {
+        for px in 0..12u32 {
+            // the pixel's analytic mean by a 16 x 16 midpoint rule over its area
+            let k = 16;
+            let mut want = 0.0;
+            for a in 0..k {
+                for b in 0..k {
+                    let f = Vec2::new(px as f32 + (a as f32 + 0.5) / k as f32, py as f32 + (b as f32 + 0.5) / k as f32);
+                    want += analytic(&web, &camera, f, roll_deg);
+                }
+            }
+            want /= (k * k) as f64;
+            let i = (py * 12 + px) as usize;
+            let (got, sigma) = (f64::from(y[i] * LUMINANCE_PER_Y), f64::from(se[i] * LUMINANCE_PER_Y));
+            let z = (got - want) / sigma;
+            worst = worst.max(z.abs());
+            assert!(
+                z.abs() < 4.5,
+                "{label}: pixel ({px}, {py}) {got:.4} +- {sigma:.4} cd/m^2, analytic {want:.4} (z {z:.2})"
+            );
+            (sum_got, sum_want, var) = (sum_got + got, sum_want + want, var + sigma * sigma);
+        }
+    }
+    let z = (sum_got - sum_want) / var.sqrt();
+    eprintln!("{label}: worst pixel |z| {worst:.2}; image mean ratio {:.5} (z {z:.2})", sum_got / sum_want);
+    assert!(z.abs() < 4.0, "{label}: the image mean is off: ratio {} (z {z:.2})", sum_got / sum_want);
+}
+
+#[test]
+fn ies_luminaire_lights_a_floor_as_the_closed_form() {
+    render_and_check("lamp.ies", &ies_text(), "", 0.0, "IES");
+}
+
+#[test]
+fn eulumdat_luminaire_lights_a_floor_as_the_closed_form() {
+    render_and_check("lamp.ldt", &ldt_text(), "", 0.0, "EULUMDAT");
+}
+
+/// A roll of 90 degrees turns C0 from +X to -Z; the closed form turned the same way must match
+/// (and the unrolled closed form must not: the distribution is asymmetric enough).
+#[test]
+fn rolled_luminaire_turns_its_distribution() {
+    render_and_check("lamp.ies", &ies_text(), "roll_deg = 90", 90.0, "IES rolled");
+    let s = common::write_scene(&scene("lamp.ies", "roll_deg = 90"), &[("lamp.ies", &ies_text())]);
+    let ov = JobOverrides { spp: Some(64), method: Some("pt".into()), threads: Some(2), ..Default::default() };
+    let img = common::render_file(&s.path, &ov).image;
+    let desc = quasar::render::job::load_scene(&s.path).unwrap();
+    let camera = Camera::new(&desc.camera, 12, 12).unwrap();
+    let y = img.channel("XYZ.Y").unwrap();
+    let (web, _) = read_photometric_file(&s.dir.path().join("lamp.ies")).unwrap();
+    let off = (0..144)
+        .map(|i| {
+            let f = Vec2::new((i % 12) as f32 + 0.5, (i / 12) as f32 + 0.5);
+            (f64::from(y[i]) * f64::from(LUMINANCE_PER_Y) / analytic(&web, &camera, f, 0.0) - 1.0).abs()
+        })
+        .fold(0.0, f64::max);
+    assert!(off > 0.1, "the unrolled closed form also fits ({off}): the test cannot see orientation");
+}
+
+/// The file's flux: the web integrates to the lumens the IES file states (pi x 600 lm) and the
+/// EULUMDAT file's LORL x lamp flux.
+#[test]
+fn webs_integrate_to_the_stated_lumens() {
+    let dir = tempfile::tempdir().unwrap();
+    let (ies, ldt) = (dir.path().join("a.ies"), dir.path().join("a.ldt"));
+    std::fs::write(&ies, ies_text()).unwrap();
+    std::fs::write(&ldt, ldt_text()).unwrap();
+    let (w, _) = read_photometric_file(&ies).unwrap();
+    let stated = f64::from(w.lamp_lumens.unwrap());
+    assert!((w.flux() / stated - 1.0).abs() < 0.01, "IES: {} lm vs stated {stated}", w.flux());
+    let (l, _) = read_photometric_file(&ldt).unwrap();
+    // the cd/klm table of a 1000 lm lamp set is the candela table itself
+    assert!((l.flux() / w.flux() - 1.0).abs() < 0.002, "EULUMDAT {} vs IES {}", l.flux(), w.flux());
+}
+
+/// The check catches a 2% error: the same luminaire at `scale = 1.02` fails it.
+#[test]
+fn the_check_catches_a_two_percent_error() {
+    let r = std::panic::catch_unwind(|| render_and_check("lamp.ies", &ies_text(), "scale = 1.02", 0.0, "IES x 1.02"));
+    assert!(r.is_err(), "a 2% brighter luminaire passed the closed-form check");
+}
