@@ -166,8 +166,27 @@ impl Materials {
     }
 }
 
-/// Imports the USD file `path` (see the module documentation).
+/// The message of an import that a panic in the USD reader ended (see [`import_usd`]).
+pub const USD_READER_PANIC: &str = "the USD reader (openusd 0.6.0) failed on malformed data";
+
+/// Imports the USD file `path` (see the module documentation). openusd 0.6.0 panics on some
+/// malformed crate files (unchecked table indices, found by `fuzz/fuzz_targets/usd.rs`); such a
+/// panic ends the import with an error naming the file ([`USD_READER_PANIC`]) instead of the
+/// process.
 pub fn import_usd(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportError> {
+    // (a TimeScope set inside is restored by its Drop while unwinding)
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| import_stage(path, opts))).unwrap_or_else(|payload| {
+        let msg = payload
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| payload.downcast_ref::<&str>().copied())
+            .unwrap_or("a panic");
+        Err(ImportError::new(ImportErrorKind::Syntax, ErrorPlace::file(path), format!("{USD_READER_PANIC}: {msg}")))
+    })
+}
+
+/// [`import_usd`] without the panic guard.
+fn import_stage(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportError> {
     let len = std::fs::metadata(path).map_err(|e| ImportError::io(path, "cannot read USD file", e))?.len();
     if len > MAX_USD_BYTES {
         return Err(ImportError::new(
