@@ -7,7 +7,7 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 secs=${1:-60}
-for t in toml_scene obj gltf bsdf usd; do
+for t in toml_scene obj gltf bsdf usd photometry; do
   mkdir -p "corpus/$t" "artifacts/$t"
   echo "== $t ($secs s)"
   RUSTC_BOOTSTRAP=1 cargo fuzz run "$t" "corpus/$t" "seeds/$t" -- \

@@ -121,7 +121,14 @@ fn analytic(web: &PhotometricWeb, camera: &Camera, f: Vec2, roll_deg: f32) -> f6
 }
 
 fn render_and_check(file: &str, text: &str, extra: &str, roll_deg: f32, label: &str) {
-    let s = common::write_scene(&scene(file, extra), &[(file, text)]);
+    check_scene(&scene(file, extra), &[(file, text)], file, roll_deg, label);
+}
+
+/// Renders the TOML scene `toml` (with `files` beside it) and checks every pixel against the
+/// closed form for the photometric file `web_file` hanging at (0, HEIGHT, 0), rolled by `roll_deg`.
+fn check_scene(toml: &str, files: &[(&str, &str)], web_file: &str, roll_deg: f32, label: &str) {
+    let s = common::write_scene(toml, files);
+    let file = web_file;
     let ov = JobOverrides { spp: Some(1024), method: Some("pt".into()), threads: Some(2), ..Default::default() };
     let img = common::render_file(&s.path, &ov).image;
     let (y, se) = (img.channel("XYZ.Y").unwrap(), img.channel("stderr.Y").unwrap());
@@ -202,6 +209,54 @@ fn webs_integrate_to_the_stated_lumens() {
     let (l, _) = read_photometric_file(&ldt).unwrap();
     // the cd/klm table of a 1000 lm lamp set is the candela table itself
     assert!((l.flux() / w.flux() - 1.0).abs() < 0.002, "EULUMDAT {} vs IES {}", l.flux(), w.flux());
+}
+
+/// UsdLux `ShapingAPI` `shaping:ies:file` on a point `SphereLight` aimed down (rotateX -90: the
+/// light's -Z is the nadir, its +X C0) renders the file's candela like the TOML luminaire.
+#[test]
+fn usd_ies_profile_is_the_files_candela() {
+    let stage = format!(
+        r#"#usda 1.0
+(
+    metersPerUnit = 1
+    upAxis = "Y"
+)
+def SphereLight "Lamp" (
+    prepend apiSchemas = ["ShapingAPI"]
+)
+{{
+    float inputs:intensity = 30000
+    float inputs:radius = 0.05
+    bool treatAsPoint = 1
+    asset inputs:shaping:ies:file = @./lamp.ies@
+    double3 xformOp:translate = (0, {HEIGHT}, 0)
+    float xformOp:rotateX = -90
+    uniform token[] xformOpOrder = ["xformOp:translate", "xformOp:rotateX"]
+}}
+"#
+    );
+    let toml = scene("lamp.ies", "")
+        .replace("[[light]]\ntype = \"luminaire\"\nfile = \"lamp.ies\"", "[[include]]\nfile = \"lamp.usda\"");
+    let toml = toml.replace(&format!("position = [0, {HEIGHT}, 0]\n"), "");
+    assert!(toml.contains("[[include]]") && !toml.contains("luminaire"), "{toml}");
+    check_scene(&toml, &[("lamp.ies", &ies_text()), ("lamp.usda", &stage)], "lamp.ies", 0.0, "USD ies:file");
+    // shaping:ies:normalize: the profile carries the point light's flux 4 pi x (L pi r^2)
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("lamp.ies"), ies_text()).unwrap();
+    let p = dir.path().join("n.usda");
+    std::fs::write(
+        &p,
+        stage.replace("bool treatAsPoint = 1", "bool treatAsPoint = 1\n    bool inputs:shaping:ies:normalize = 1"),
+    )
+    .unwrap();
+    let desc = quasar_importers::import_scene(&p, &Default::default()).unwrap();
+    let Some(quasar_importers::LightDesc::Luminaire { web, spectrum, scale, .. }) = desc.lights.first() else {
+        panic!("no luminaire: {:?}", desc.lights)
+    };
+    let lm =
+        f64::from(*scale / quasar_importers::photometric::photometric_scale(1.0) * spectrum.luminance()) * web.flux();
+    let want = 4.0 * std::f64::consts::PI * 30000.0 * std::f64::consts::PI * 0.05f64.powi(2);
+    assert!((lm / want - 1.0).abs() < 1e-3, "normalized profile emits {lm} lm, the point light {want} lm");
 }
 
 /// The check catches a 2% error: the same luminaire at `scale = 1.02` fails it.

@@ -17,7 +17,8 @@
 //! | `DomeLight` | constant environment of luminance L_v, or its lat-long `texture:file` (`.exr`, `.hdr`) times L_v in UsdLux's OpenEXR orientation ([`dome`]) |
 //!
 //! `normalize = true` divides an area light's luminance by its world-space area (the power no
-//! longer depends on the size). `GeometryLight` and `PortalLight` are not supported (warning).
+//! longer depends on the size). `ShapingAPI` `shaping:ies:file` makes any of them but distant
+//! and dome lights a point luminaire ([`super::ies_light`]). `GeometryLight` and `PortalLight` are not supported (warning).
 
 use glam::{Affine3A, Vec3};
 use openusd::usd::Prim;
@@ -255,5 +256,6 @@ pub(super) fn read_light(
         "DomeLight" => dome(prim, world, spectrum, scale, stage_file, &mut notes)?,
         other => UsdLight::Skipped(format!("{other} is not a light type quasar reads")),
     };
+    let light = super::ies_light::with_ies_profile(prim, light, world, stage_file, &mut notes)?;
     Ok((light, notes))
 }

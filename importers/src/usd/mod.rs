@@ -18,6 +18,7 @@
 //!   prim count and the triangle count.
 
 mod camera;
+mod ies_light;
 mod instancer;
 mod light;
 mod material;
@@ -281,6 +282,7 @@ fn import_stage(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportEr
         {
             continue;
         }
+        value::check_op_order(&prim).map_err(|e| attr_err(path, &at, e))?;
         let local = view
             .local_to_parent_transform(value::time())
             .map_err(|e| err(ImportErrorKind::InvalidValue, path, &at, format!("{e:#}")))?;

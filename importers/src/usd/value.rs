@@ -176,3 +176,30 @@ pub(super) fn interpolation(prim: &Prim, name: &str) -> String {
         })
         .unwrap_or_else(|| "vertex".to_string())
 }
+
+/// Checks the names in `prim`'s `xformOpOrder`: `!resetXformStack!`, or `xformOp:TYPE[:SUFFIX]`
+/// with an optional `!invert!` prefix and identifier characters only (openusd 0.6.0 spins on
+/// op names with spaces or line breaks in them, found by the fuzzer), at most 1000 ops.
+pub(super) fn check_op_order(prim: &Prim) -> Result<(), AttrError> {
+    const NAME: &str = "xformOpOrder";
+    let ops = match prim.attribute(NAME).get::<Value>().map_err(|e| (NAME.to_string(), format!("{e:#}")))? {
+        None => return Ok(()),
+        Some(Value::TokenVec(ops)) => ops,
+        Some(v) => return Err(wrong(NAME, "a token array", &v)),
+    };
+    if ops.len() > 1000 {
+        return Err((NAME.to_string(), format!("{} ops are more than 1000", ops.len())));
+    }
+    for op in &ops {
+        let op = op.as_str();
+        let name = op.strip_prefix("!invert!").unwrap_or(op);
+        let ok = op == "!resetXformStack!"
+            || (name.strip_prefix("xformOp:").is_some_and(|t| !t.is_empty())
+                && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == ':'));
+        if !ok {
+            let shown: String = op.chars().take(60).collect();
+            return Err((NAME.to_string(), format!("`{}` is not a transform op name", shown.escape_debug())));
+        }
+    }
+    Ok(())
+}
