@@ -343,4 +343,6 @@ pub struct SceneDesc {
     pub render: RenderSettings,
     /// The file the scene was loaded from.
     pub source: PathBuf,
+    /// Virtual illuminance sensors (`[[sensor]]`), measured in the same run as the image.
+    pub sensors: Vec<crate::sensor_desc::SensorDesc>,
 }

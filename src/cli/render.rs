@@ -229,6 +229,9 @@ pub fn render(args: RenderArgs) -> Result<ExitCode> {
         eprintln!("warning: {w}");
     }
     write_outputs_with_preview(&out, &exr, preview.as_ref(), exposure, view)?;
+    if !desc.sensors.is_empty() && !out.result.interrupted {
+        write_sensors(&desc, &exr, ov.seed.unwrap_or(desc.render.seed), quiet)?;
+    }
     if out.result.interrupted {
         eprintln!("interrupted: wrote the partial image {} ({} spp)", exr.display(), out.result.spp);
         return Ok(ExitCode::from(super::EXIT_PARTIAL));
@@ -246,4 +249,24 @@ pub fn render(args: RenderArgs) -> Result<ExitCode> {
         );
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The CSV path of sensor `name` for the image `exr`: `<stem>.<name>.csv` beside it.
+pub fn sensor_csv_path(exr: &std::path::Path, name: &str) -> PathBuf {
+    let stem = exr.file_stem().map_or("out".into(), |s| s.to_string_lossy().into_owned());
+    exr.with_file_name(format!("{stem}.{name}.csv"))
+}
+
+/// Measures the scene's `[[sensor]]`s and writes each one's CSV beside the image.
+fn write_sensors(desc: &quasar_importers::SceneDesc, exr: &std::path::Path, seed: u64, quiet: bool) -> Result<()> {
+    let scene = quasar::core::scene::Scene::compile(desc)?;
+    for sensor in &desc.sensors {
+        let reading = quasar::render::sensors::measure(&scene, sensor, seed ^ 0x5e45_0125);
+        let path = sensor_csv_path(exr, &sensor.name);
+        quasar::output::atomic::write_atomic_bytes(&path, reading.csv().as_bytes())?;
+        if !quiet {
+            eprintln!("{} -> {}", reading.summary(), path.display());
+        }
+    }
+    Ok(())
 }

@@ -8,6 +8,7 @@ pub mod bidir;
 pub mod direct;
 pub mod direct_lighting;
 pub mod entry;
+pub mod illuminance;
 pub mod method;
 pub mod params;
 pub mod pass;

@@ -7,3 +7,4 @@ pub mod driver;
 pub mod interrupt;
 pub mod job;
 pub mod memory;
+pub mod sensors;

@@ -302,6 +302,7 @@ pub fn import_gltf(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Impor
         warnings,
         render,
         source: path.to_owned(),
+        sensors: Vec::new(),
     })
 }
 

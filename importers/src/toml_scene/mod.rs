@@ -8,6 +8,7 @@
 mod include;
 mod luminaire;
 mod material;
+mod sensor;
 mod settings;
 mod shape;
 mod spectrum;
@@ -44,7 +45,8 @@ pub const SHAPE_TYPES: [&str; 4] = ["mesh", "quad", "sphere", "disk"];
 /// Light types of `[[light]]`.
 pub const LIGHT_TYPES: [&str; 5] = ["point", "spot", "directional", "luminaire", "environment"];
 
-const TOP_KEYS: [&str; 8] = ["units", "render", "camera", "materials", "shape", "light", "include", "override"];
+const TOP_KEYS: [&str; 9] =
+    ["units", "render", "camera", "materials", "shape", "light", "sensor", "include", "override"];
 
 /// The TOML scene importer of the registry (`.toml`).
 #[derive(Clone, Copy, Debug, Default)]
@@ -126,6 +128,7 @@ fn parse_at_depth(
     for l in tables(&top, "light")? {
         b.lights.push(settings::light(&l, b.unit)?);
     }
+    let sensors = tables(&top, "sensor")?.iter().map(|t| sensor::sensor(t, b.unit)).collect::<Result<Vec<_>, _>>()?;
     let camera = b.camera(top.opt_table("camera")?)?;
     let render = settings::render(top.opt_table("render")?, b.unit)?;
     for o in tables(&top, "override")? {
@@ -148,6 +151,7 @@ fn parse_at_depth(
         warnings: b.warnings,
         render,
         source: path.to_owned(),
+        sensors,
     })
 }
 

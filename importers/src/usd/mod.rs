@@ -421,5 +421,6 @@ fn import_stage(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportEr
         warnings,
         render,
         source: path.to_owned(),
+        sensors: Vec::new(),
     })
 }

@@ -1,0 +1,119 @@
+//! Measuring the `[[sensor]]`s of a scene (docs/photometry.md): every meter's illuminance in lux,
+//! E_v = 683 lm/W x integral of E ybar = 72 983 x Y(E), with its standard error, and the
+//! lighting-practice statistics of each sensor (Emin, Eavg, Emax, uniformities U0 = Emin/Eavg
+//! and Emin/Emax), written as CSV.
+
+use glam::Vec3;
+use quasar_importers::SensorDesc;
+use quasar_importers::photometric::LUMINANCE_PER_Y;
+use quasar_materials::spectrum::SampledWavelengths;
+use rayon::prelude::*;
+
+use crate::core::sampling::Sampler;
+use crate::core::scene::Scene;
+use crate::integrator::illuminance::illuminance_sample;
+
+/// What one sensor measured.
+#[derive(Clone, Debug)]
+pub struct SensorReading {
+    /// The sensor's name.
+    pub name: String,
+    /// Meter positions (metres).
+    pub points: Vec<Vec3>,
+    /// The meters' normal.
+    pub normal: Vec3,
+    /// Illuminance per meter (lx).
+    pub lux: Vec<f64>,
+    /// Standard error of each value (lx).
+    pub stderr: Vec<f64>,
+    /// Samples per meter.
+    pub samples: u32,
+}
+
+/// Emin, Eavg, Emax (lx) and the uniformities Emin/Eavg (U0) and Emin/Emax.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SensorStats {
+    /// Smallest value.
+    pub min: f64,
+    /// Mean value.
+    pub avg: f64,
+    /// Largest value.
+    pub max: f64,
+    /// Emin / Eavg (0 when Eavg is 0).
+    pub u0: f64,
+    /// Emin / Emax (0 when Emax is 0).
+    pub min_over_max: f64,
+}
+
+/// Measures `sensor` in `scene` (meters in parallel; meter k, sample s uses the random numbers
+/// of `(seed, k, s)`).
+pub fn measure(scene: &Scene, sensor: &SensorDesc, seed: u64) -> SensorReading {
+    let points = sensor.points();
+    let n = sensor.samples.max(1);
+    let (lux, stderr): (Vec<f64>, Vec<f64>) = points
+        .par_iter()
+        .enumerate()
+        .map(|(k, &p)| {
+            let (mut sum, mut sum2) = (0.0f64, 0.0f64);
+            for s in 0..n {
+                let mut sampler = Sampler::new(seed, k as u64, u64::from(s));
+                let mut wl = SampledWavelengths::sample_visible(sampler.get_1d());
+                let e = illuminance_sample(scene, p, sensor.normal, &mut wl, &mut sampler);
+                let v = f64::from(wl.luminance(e) * LUMINANCE_PER_Y);
+                let v = if v.is_finite() { v } else { 0.0 };
+                sum += v;
+                sum2 += v * v;
+            }
+            let mean = sum / f64::from(n);
+            let var = (sum2 / f64::from(n) - mean * mean).max(0.0) / f64::from((n - 1).max(1));
+            (mean, var.sqrt())
+        })
+        .unzip();
+    SensorReading { name: sensor.name.clone(), points, normal: sensor.normal, lux, stderr, samples: n }
+}
+
+impl SensorReading {
+    /// The statistics of the values.
+    pub fn stats(&self) -> SensorStats {
+        let min = self.lux.iter().copied().fold(f64::INFINITY, f64::min);
+        let max = self.lux.iter().copied().fold(0.0, f64::max);
+        let avg = self.lux.iter().sum::<f64>() / self.lux.len().max(1) as f64;
+        let ratio = |a: f64, b: f64| if b > 0.0 { a / b } else { 0.0 };
+        SensorStats { min, avg, max, u0: ratio(min, avg), min_over_max: ratio(min, max) }
+    }
+
+    /// The CSV: `#` header lines (name, normal, samples, the statistics), then
+    /// `x_m,y_m,z_m,E_lx,stderr_lx` per meter.
+    pub fn csv(&self) -> String {
+        let s = self.stats();
+        let n = self.normal;
+        let mut out = format!(
+            "# quasar sensor {}: illuminance (lx) on meters with normal ({}, {}, {}), {} samples each\n",
+            self.name, n.x, n.y, n.z, self.samples
+        );
+        out += &format!(
+            "# Emin {:.4} lx, Eavg {:.4} lx, Emax {:.4} lx, U0 = Emin/Eavg {:.4}, Emin/Emax {:.4}\n",
+            s.min, s.avg, s.max, s.u0, s.min_over_max
+        );
+        out += "x_m,y_m,z_m,E_lx,stderr_lx\n";
+        for ((p, e), se) in self.points.iter().zip(&self.lux).zip(&self.stderr) {
+            out += &format!("{},{},{},{e:.6},{se:.6}\n", p.x, p.y, p.z);
+        }
+        out
+    }
+
+    /// One line for the terminal.
+    pub fn summary(&self) -> String {
+        let s = self.stats();
+        format!(
+            "sensor {}: {} meter{}, Emin {:.1} lx, Eavg {:.1} lx, Emax {:.1} lx, U0 {:.3}",
+            self.name,
+            self.points.len(),
+            if self.points.len() == 1 { "" } else { "s" },
+            s.min,
+            s.avg,
+            s.max,
+            s.u0
+        )
+    }
+}
