@@ -105,3 +105,26 @@ fn usd_regressions() {
         }
     }
 }
+
+/// Photometric files the fuzzer found (`fuzz/fuzz_targets/photometry.rs`): each parses as IES
+/// and as EULUMDAT to an error naming the file, or to a web whose intensity is finite and >= 0.
+#[test]
+fn photometry_regressions() {
+    use quasar::importers::photometry::{eulumdat::parse_ldt, ies::parse_ies};
+    for p in inputs("photometry") {
+        let text = std::fs::read_to_string(&p).unwrap();
+        let name = p.file_name().unwrap().to_str().unwrap();
+        let webs = [parse_ies(&text, &p).map(|f| f.web), parse_ldt(&text, &p).map(|f| f.web)];
+        for w in webs {
+            match w {
+                Ok(w) => {
+                    for d in [glam::Vec3::NEG_Z, glam::Vec3::X, glam::Vec3::new(-0.71, -0.7, 0.066).normalize()] {
+                        let v = w.intensity(d);
+                        assert!(v.is_finite() && v >= 0.0, "{name}: {v} towards {d}");
+                    }
+                }
+                Err(e) => assert!(e.to_string().contains(name), "{e}"),
+            }
+        }
+    }
+}

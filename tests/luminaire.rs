@@ -265,3 +265,15 @@ fn the_check_catches_a_two_percent_error() {
     let r = std::panic::catch_unwind(|| render_and_check("lamp.ies", &ies_text(), "scale = 1.02", 0.0, "IES x 1.02"));
     assert!(r.is_err(), "a 2% brighter luminaire passed the closed-form check");
 }
+
+/// The shipped office's downlight integrates to the 2000 lm its file states (1%), and the scene
+/// imports with its four luminaires and the 14 x 10 work-plane grid.
+#[test]
+fn shipped_office_downlight_states_its_flux() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/office");
+    let (web, _) = read_photometric_file(&root.join("downlight.ies")).unwrap();
+    assert!((web.flux() / 2000.0 - 1.0).abs() < 0.01, "{} lm", web.flux());
+    let desc = quasar::render::job::load_scene(&root.join("office.toml")).unwrap();
+    let luminaires = desc.lights.iter().filter(|l| matches!(l, quasar_importers::LightDesc::Luminaire { .. })).count();
+    assert_eq!((luminaires, desc.sensors.len(), desc.sensors[0].points().len()), (4, 1, 140));
+}

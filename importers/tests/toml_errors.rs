@@ -273,7 +273,7 @@ fn render_camera_and_light_errors() {
             "cone_deg = 10",
         ),
         ("[[light]]\ntype = \"directional\"\ndirection = [0, 0, 0]\n", "direction =", "non-zero"),
-        ("[[light]]\ntype = \"area\"\n", "\"area\"", "point, spot, directional, environment"),
+        ("[[light]]\ntype = \"area\"\n", "\"area\"", "point, spot, directional, luminaire, environment"),
     ];
     for (extra, line_needle, needle) in cases {
         let (t, e) = bad_extra(extra, &[]);

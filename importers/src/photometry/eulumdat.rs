@@ -181,6 +181,13 @@ pub fn parse_ldt(text: &str, path: &Path) -> Result<LdtFile, ImportError> {
         ));
     }
     let factor = (flux / 1000.0 * if cf > 0.0 { cf } else { 1.0 }) as f32;
+    if !factor.is_finite() {
+        return Err(l.err(
+            ImportErrorKind::InvalidValue,
+            24,
+            "the lamp flux times the conversion factor is not finite",
+        ));
+    }
     let mut rows: Vec<(f32, Vec<f32>)> = Vec::with_capacity(planes.len());
     for &p in &planes {
         let mut row = Vec::with_capacity(ng);
@@ -189,7 +196,11 @@ pub fn parse_ldt(text: &str, path: &Path) -> Result<LdtFile, ImportError> {
             if v < 0.0 {
                 return Err(l.err(ImportErrorKind::InvalidValue, n, format!("intensities must be >= 0, got {v}")));
             }
-            row.push(v as f32 * factor);
+            if v * f64::from(factor) > super::MAX_CANDELA {
+                let msg = format!("{v} cd/klm (x {factor}) is more than {:e} cd", super::MAX_CANDELA);
+                return Err(l.err(ImportErrorKind::InvalidValue, n, msg));
+            }
+            row.push((v * f64::from(factor)) as f32);
         }
         // Isym 3 stores C270..C90: mirrored about the C90-C270 plane they are C90..C270 (C -> 180 - C)
         let c = if isym == 3 { (180.0 - c_angles[p]).rem_euclid(360.0) } else { c_angles[p] };
@@ -239,8 +250,8 @@ pub fn parse_ldt(text: &str, path: &Path) -> Result<LdtFile, ImportError> {
         vertical_deg,
         horizontal_deg: rows.iter().map(|r| r.0).collect(),
         candela: rows.into_iter().flat_map(|r| r.1).collect(),
-        lamp_lumens: (flux > 0.0).then_some(flux as f32),
-        luminaire_lumens: (flux > 0.0).then_some((flux * lor / 100.0) as f32),
+        lamp_lumens: Some(flux as f32).filter(|f| *f > 0.0 && f.is_finite()),
+        luminaire_lumens: Some((flux * lor / 100.0) as f32).filter(|f| *f > 0.0 && f.is_finite()),
         multiplier: factor,
         label: [company, name].iter().filter(|s| !s.is_empty()).cloned().collect::<Vec<_>>().join(" "),
     };

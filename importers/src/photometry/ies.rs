@@ -247,6 +247,9 @@ pub fn parse_ies(text: &str, path: &Path) -> Result<IesFile, ImportError> {
     let vertical_deg = nums.angles(nv, "vertical", vr)?;
     let mut horizontal_deg = nums.angles(nh, "horizontal", hr)?;
     let factor = (multiplier * ballast * if old { old_factor } else { 1.0 }) as f32;
+    if !factor.is_finite() {
+        return Err(nums.err(mline, "the candela multiplier times the ballast factors is not a finite number"));
+    }
     let mut candela = Vec::with_capacity(nv * nh);
     for h in 0..nh {
         for v in 0..nv {
@@ -254,7 +257,10 @@ pub fn parse_ies(text: &str, path: &Path) -> Result<IesFile, ImportError> {
             if c < 0.0 {
                 return Err(nums.err(line, format!("candela values must be >= 0, got {c}")));
             }
-            candela.push(c as f32 * factor);
+            if c * f64::from(factor) > super::MAX_CANDELA {
+                return Err(nums.err(line, format!("{c} cd (x {factor}) is more than {:e} cd", super::MAX_CANDELA)));
+            }
+            candela.push((c * f64::from(factor)) as f32);
         }
     }
     if let Some(&(_, line)) = nums.items.get(nums.next) {
@@ -288,7 +294,7 @@ pub fn parse_ies(text: &str, path: &Path) -> Result<IesFile, ImportError> {
         _ if first == 0.0 => HorizontalSymmetry::Bilateral,
         _ => HorizontalSymmetry::Full,
     };
-    let lamp_lumens = (lumens > 0.0).then(|| (lumens * lamps.max(1.0)) as f32);
+    let lamp_lumens = Some((lumens * lamps.max(1.0)) as f32).filter(|l| *l > 0.0 && l.is_finite());
     let web = PhotometricWeb {
         file: PathBuf::from(path),
         kind,
@@ -401,6 +407,7 @@ TILT=NONE
             (DOWNLIGHT.replace("0.9 1.0 12", "0.9 x 12"), "dl.ies:7", "`x` is not a number"),
             (DOWNLIGHT.replace("38.3 0\n", "38.3 0 7\n"), "dl.ies:10", "after the last candela"),
             (DOWNLIGHT.replace(" 5 1 1 2", " 0 1 1 2"), "dl.ies:6", "number of vertical angles"),
+            (DOWNLIGHT.replace("100 92.4", "1e300 92.4"), "dl.ies:10", "cd (x 1.8) is more than"),
         ];
         for (text, place, msg) in cases {
             let e = parse_ies(&text, Path::new("dl.ies")).unwrap_err().to_string();

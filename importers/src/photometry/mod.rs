@@ -22,6 +22,11 @@ use std::path::PathBuf;
 
 use glam::Vec3;
 
+/// Largest luminous intensity accepted (cd) after the file's multipliers: far above any
+/// luminaire (a lighthouse is about 1e7 cd), small enough that interpolation and flux sums stay
+/// finite in f32.
+pub const MAX_CANDELA: f64 = 1e20;
+
 /// The angle system of a photometric file (IES `photometric type`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum PhotometricType {

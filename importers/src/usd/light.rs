@@ -18,7 +18,7 @@
 //!
 //! `normalize = true` divides an area light's luminance by its world-space area (the power no
 //! longer depends on the size). `ShapingAPI` `shaping:ies:file` makes any of them but distant
-//! and dome lights a point luminaire ([`super::ies_light`]). `GeometryLight` and `PortalLight` are not supported (warning).
+//! and dome lights a point luminaire (`ies_light.rs`, applied by the caller). `GeometryLight` and `PortalLight` are not supported (warning).
 
 use glam::{Affine3A, Vec3};
 use openusd::usd::Prim;
@@ -256,6 +256,5 @@ pub(super) fn read_light(
         "DomeLight" => dome(prim, world, spectrum, scale, stage_file, &mut notes)?,
         other => UsdLight::Skipped(format!("{other} is not a light type quasar reads")),
     };
-    let light = super::ies_light::with_ies_profile(prim, light, world, stage_file, &mut notes)?;
     Ok((light, notes))
 }
