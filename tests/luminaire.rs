@@ -132,6 +132,8 @@ fn check_scene(toml: &str, files: &[(&str, &str)], web_file: &str, roll_deg: f32
     let ov = JobOverrides { spp: Some(1024), method: Some("pt".into()), threads: Some(2), ..Default::default() };
     let img = common::render_file(&s.path, &ov).image;
     let (y, se) = (img.channel("XYZ.Y").unwrap(), img.channel("stderr.Y").unwrap());
+    // the luminance layer is the cd/m^2 the closed form gives
+    let lum = img.channel("luminance.Y").unwrap();
     let (web, _) = read_photometric_file(&s.dir.path().join(file)).unwrap();
     let desc = quasar::render::job::load_scene(&s.path).unwrap();
     let camera = Camera::new(&desc.camera, 12, 12).unwrap();
@@ -149,7 +151,8 @@ fn check_scene(toml: &str, files: &[(&str, &str)], web_file: &str, roll_deg: f32
             }
             want /= (k * k) as f64;
             let i = (py * 12 + px) as usize;
-            let (got, sigma) = (f64::from(y[i] * LUMINANCE_PER_Y), f64::from(se[i] * LUMINANCE_PER_Y));
+            assert!((lum[i] - y[i] * LUMINANCE_PER_Y).abs() <= 1e-6 * lum[i].abs(), "luminance.Y = 72983 x XYZ.Y");
+            let (got, sigma) = (f64::from(lum[i]), f64::from(se[i] * LUMINANCE_PER_Y));
             let z = (got - want) / sigma;
             worst = worst.max(z.abs());
             assert!(

@@ -16,6 +16,9 @@ use crate::integrator::params::MethodParams;
 use crate::output::preview::{Exposure, View, exposure_scale};
 use crate::output::{ExrImage, write_exr_atomic, write_preview_png};
 
+/// The channel of the photometric luminance in cd/m^2 (`LUMINANCE_PER_Y` x `XYZ.Y`).
+pub const LUMINANCE_CD: &str = "luminance.Y";
+
 /// Settings that override the scene file's `[render]` table (None = keep the scene's).
 #[derive(Clone, Debug, Default)]
 pub struct JobOverrides {
@@ -219,6 +222,12 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         ));
     }
     let mut channels = result.film.channels();
+    // photometric luminance: 683 lm/W x integral of L ybar = LUMINANCE_PER_Y x Y (docs/photometry.md)
+    let luminance = channels.iter().find(|c| c.name == crate::film::LUMINANCE).map(|c| {
+        let values = c.values.iter().map(|&y| y * quasar_importers::photometric::LUMINANCE_PER_Y).collect();
+        Channel { name: LUMINANCE_CD.into(), values }
+    });
+    channels.extend(luminance);
     channels.push(Channel { name: "depth.Z".into(), values: result.depth.clone() });
     channels.extend(result.extra.iter().cloned());
     let mut header = vec![
@@ -235,7 +244,7 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         ("wavelengths".into(), "hero, 4 per path, 360-830 nm, visible-importance pdf".into()),
         (
             "units".into(),
-            "R,G,B: linear sRGB (D65); XYZ.*: CIE 1931 XYZ; both scaled so that a spectrally flat radiance of 1 gives Y = 1 (cd/m^2 = 72983 x Y with lights in absolute units)".into(),
+            "R,G,B: linear sRGB (D65); XYZ.*: CIE 1931 XYZ; both scaled so that a spectrally flat radiance of 1 gives Y = 1; luminance.Y: cd/m^2 = 72983 x Y, absolute when the scene's lights are in absolute units (photometric files, glTF/USD photometric lights, radiometric scales in W)".into(),
         ),
         ("partial".into(), result.interrupted.to_string()),
         ("shard".into(), format!("{}/{}", shard.0, shard.1)),

@@ -41,6 +41,34 @@ pub fn report(path: &Path, desc: &SceneDesc, compiled: &Scene) -> String {
         let names: Vec<&str> = desc.cameras.iter().map(|c| c.name.as_str()).collect();
         let _ = writeln!(s, "cameras in the file: {}", names.join(", "));
     }
+    for l in &desc.lights {
+        if let quasar_importers::LightDesc::Luminaire { position, frame, web, scale, spectrum } = l {
+            let per_cd = quasar_importers::photometric::photometric_scale(1.0);
+            let factor = scale / per_cd * spectrum.luminance();
+            let stated = web.lamp_lumens.map_or("absolute photometry".to_string(), |l| format!("lamp {} lm", num(l)));
+            let _ = writeln!(
+                s,
+                "luminaire: {} ({}) at {}, nadir towards {}: {} lm ({stated}), peak {} cd, x {}",
+                web.file.display(),
+                if web.label.is_empty() { "no label" } else { &web.label },
+                vec3(*position),
+                vec3(glam::Vec3::ZERO - frame.z_axis),
+                num(web.flux() as f32 * factor),
+                num(web.max_candela() * factor),
+                num(factor)
+            );
+        }
+    }
+    for sensor in &desc.sensors {
+        let _ = writeln!(
+            s,
+            "sensor {}: {} meter(s), normal {}, {} samples each",
+            sensor.name,
+            sensor.points().len(),
+            vec3(sensor.normal),
+            sensor.samples
+        );
+    }
     let _ = writeln!(s, "bounding sphere: centre {}, radius {}", vec3(compiled.center), compiled.radius);
     s + &SceneAnalysis::of(compiled).report()
 }
