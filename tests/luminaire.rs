@@ -280,3 +280,35 @@ fn shipped_office_downlight_states_its_flux() {
     let luminaires = desc.lights.iter().filter(|l| matches!(l, quasar_importers::LightDesc::Luminaire { .. })).count();
     assert_eq!((luminaires, desc.sensors.len(), desc.sensors[0].points().len()), (4, 1, 140));
 }
+
+/// The `illuminance.Y` layer (`--illuminance-samples`): at every pixel-centre hit of the floor
+/// under the IES luminaire, the inverse-square law E = I(C, gamma) cos(gamma) / d^2 in lux.
+#[test]
+fn illuminance_layer_is_the_inverse_square_law() {
+    let s = common::write_scene(&scene("lamp.ies", ""), &[("lamp.ies", &ies_text())]);
+    let ov = JobOverrides {
+        spp: Some(1),
+        method: Some("pt".into()),
+        threads: Some(2),
+        illuminance_samples: Some(4096),
+        ..Default::default()
+    };
+    let img = common::render_file(&s.path, &ov).image;
+    let e = img.channel("illuminance.Y").expect("the illuminance layer");
+    let (web, _) = read_photometric_file(&s.dir.path().join("lamp.ies")).unwrap();
+    let desc = quasar::render::job::load_scene(&s.path).unwrap();
+    let camera = Camera::new(&desc.camera, 12, 12).unwrap();
+    let mut worst = 0.0f64;
+    for (i, &got) in e.iter().enumerate() {
+        let f = Vec2::new((i % 12) as f32 + 0.5, (i / 12) as f32 + 0.5);
+        // analytic() is the floor's luminance rho E / pi
+        let want = analytic(&web, &camera, f, 0.0) * std::f64::consts::PI / f64::from(RHO);
+        let rel = f64::from(got) / want - 1.0;
+        worst = worst.max(rel.abs());
+        assert!(rel.abs() < 0.01, "pixel {i}: {got} lx, inverse-square law {want} lx");
+    }
+    eprintln!("illuminance layer: worst pixel {worst:.4}");
+    // without the option there is no such layer
+    let plain = common::render_file(&s.path, &JobOverrides { spp: Some(1), ..Default::default() }).image;
+    assert!(plain.channel("illuminance.Y").is_none());
+}

@@ -234,6 +234,8 @@ pub struct RenderSettings {
     pub unit: f32,
     /// Microfacet masking-shadowing form of every GGX material (`masking`).
     pub masking: quasar_materials::Masking,
+    /// Samples per pixel of the `illuminance.Y` layer (`illuminance_samples`; 0: no layer).
+    pub illuminance_samples: u32,
 }
 
 /// A value of a method parameter as written in a scene file or on the command line.
@@ -316,6 +318,7 @@ impl Default for RenderSettings {
             params: Vec::new(),
             unit: 1.0,
             masking: quasar_materials::Masking::HeightCorrelated,
+            illuminance_samples: 0,
         }
     }
 }

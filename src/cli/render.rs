@@ -78,6 +78,10 @@ pub struct RenderArgs {
     /// separable (Mitsuba 3's and pbrt-v3's form, for comparisons with them).
     #[arg(long, value_parser = parse_masking)]
     pub masking: Option<quasar_materials::Masking>,
+    /// Add the `illuminance.Y` layer (lux at the first surface of each pixel-centre ray) with N
+    /// samples per pixel (default: the scene's `illuminance_samples`, else no layer).
+    #[arg(long, value_name = "N")]
+    pub illuminance_samples: Option<u32>,
     /// What lights a scene that has no light (glTF and OBJ models often have none): `env`, a
     /// uniform white environment of luminance 1 (default, with a warning), or `none` (a black
     /// image, with a warning).
@@ -185,6 +189,7 @@ pub fn render(args: RenderArgs) -> Result<ExitCode> {
         checkpoint,
         resume,
         masking,
+        illuminance_samples,
         default_light,
         preview,
         exposure,
@@ -210,6 +215,7 @@ pub fn render(args: RenderArgs) -> Result<ExitCode> {
         checkpoint,
         resume,
         masking,
+        illuminance_samples,
     };
     let exr = output.unwrap_or_else(|| {
         PathBuf::from(scene.file_stem().map_or("out".into(), |s| s.to_string_lossy().into_owned()) + ".exr")

@@ -18,17 +18,19 @@ use crate::core::scene::{Scene, SurfaceInteraction};
 use crate::film::{LayeredRadiance, PathClass};
 
 /// One sample of the spectral illuminance at `p` on a plane of unit normal `n` (W/(m^2 nm) per
-/// unit of the scene's radiance scale) at the wavelengths `wl`.
+/// unit of the scene's radiance scale) at the wavelengths `wl`; `p_err` bounds the rounding error
+/// of `p` (None: a point in free space), so that rays leave a surface point cleanly.
 pub fn illuminance_sample(
     scene: &Scene,
     p: Vec3,
+    p_err: Option<Vec3>,
     n: Vec3,
     wl: &mut SampledWavelengths,
     sampler: &mut Sampler,
 ) -> SampledSpectrum {
     let si = SurfaceInteraction {
         p,
-        p_err: Vec3::splat(1e-6 * (1.0 + p.abs().max_element())),
+        p_err: p_err.unwrap_or(Vec3::splat(1e-6 * (1.0 + p.abs().max_element()))),
         ng: n,
         ns: n,
         t: 0.0,

@@ -19,6 +19,9 @@ use crate::output::{ExrImage, write_exr_atomic, write_preview_png};
 /// The channel of the photometric luminance in cd/m^2 (`LUMINANCE_PER_Y` x `XYZ.Y`).
 pub const LUMINANCE_CD: &str = "luminance.Y";
 
+/// The channel of the illuminance in lux at the first surface each pixel-centre ray hits.
+pub const ILLUMINANCE_LX: &str = "illuminance.Y";
+
 /// Settings that override the scene file's `[render]` table (None = keep the scene's).
 #[derive(Clone, Debug, Default)]
 pub struct JobOverrides {
@@ -50,6 +53,8 @@ pub struct JobOverrides {
     pub resume: Option<PathBuf>,
     /// Microfacet masking-shadowing form (default: the scene's, height-correlated).
     pub masking: Option<quasar_materials::Masking>,
+    /// Samples per pixel of the `illuminance.Y` layer (0: none), over the scene's setting.
+    pub illuminance_samples: Option<u32>,
 }
 
 impl JobOverrides {
@@ -228,6 +233,11 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         Channel { name: LUMINANCE_CD.into(), values }
     });
     channels.extend(luminance);
+    let illuminance_samples = ov.illuminance_samples.unwrap_or(r.illuminance_samples);
+    if illuminance_samples > 0 {
+        let values = crate::render::sensors::illuminance_pass(&scene, &camera, illuminance_samples, seed);
+        channels.push(Channel { name: ILLUMINANCE_LX.into(), values });
+    }
     channels.push(Channel { name: "depth.Z".into(), values: result.depth.clone() });
     channels.extend(result.extra.iter().cloned());
     let mut header = vec![

@@ -58,7 +58,7 @@ pub fn measure(scene: &Scene, sensor: &SensorDesc, seed: u64) -> SensorReading {
             for s in 0..n {
                 let mut sampler = Sampler::new(seed, k as u64, u64::from(s));
                 let mut wl = SampledWavelengths::sample_visible(sampler.get_1d());
-                let e = illuminance_sample(scene, p, sensor.normal, &mut wl, &mut sampler);
+                let e = illuminance_sample(scene, p, None, sensor.normal, &mut wl, &mut sampler);
                 let v = f64::from(wl.luminance(e) * LUMINANCE_PER_Y);
                 let v = if v.is_finite() { v } else { 0.0 };
                 sum += v;
@@ -116,4 +116,30 @@ impl SensorReading {
             s.u0
         )
     }
+}
+
+/// The `illuminance.Y` layer: the illuminance (lx) at the first surface each pixel-centre ray of
+/// `camera` hits, on the side facing the camera (the geometric normal turned towards the eye), by
+/// `samples` samples of the sensor estimator; 0 where the ray hits nothing. Like `depth.Z` it
+/// is not antialiased. A meter there sees the light the surface receives, the surface itself
+/// being no obstacle to the half-space above it.
+pub fn illuminance_pass(scene: &Scene, camera: &crate::core::camera::Camera, samples: u32, seed: u64) -> Vec<f32> {
+    let (w, h) = (camera.width() as usize, camera.height() as usize);
+    (0..w * h)
+        .into_par_iter()
+        .map(|i| {
+            let ray = camera.ray(glam::Vec2::new((i % w) as f32 + 0.5, (i / w) as f32 + 0.5));
+            let Some(si) = scene.intersect(&ray) else { return 0.0 };
+            let n = if si.ng.dot(ray.dir) > 0.0 { -si.ng } else { si.ng };
+            let mut sum = 0.0f64;
+            for s in 0..samples {
+                let mut sampler = Sampler::new(seed ^ 0x111u64, i as u64, u64::from(s));
+                let mut wl = SampledWavelengths::sample_visible(sampler.get_1d());
+                let e = illuminance_sample(scene, si.p, Some(si.p_err), n, &mut wl, &mut sampler);
+                let v = f64::from(wl.luminance(e) * LUMINANCE_PER_Y);
+                sum += if v.is_finite() { v } else { 0.0 };
+            }
+            (sum / f64::from(samples.max(1))) as f32
+        })
+        .collect()
 }

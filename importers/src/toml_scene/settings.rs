@@ -14,7 +14,8 @@ use crate::toml_reader::{Tbl, number};
 pub(super) fn render(t: Option<Tbl<'_>>, unit: f32) -> Result<RenderSettings, ImportError> {
     let mut r = RenderSettings { unit, ..RenderSettings::default() };
     let Some(t) = t else { return Ok(r) };
-    const OWN: [&str; 8] = ["width", "height", "spp", "time", "seed", "method", "target_error", "masking"];
+    const OWN: [&str; 9] =
+        ["width", "height", "spp", "time", "seed", "method", "target_error", "masking", "illuminance_samples"];
     for (k, v) in t.entries() {
         let key: &str = k.get_ref();
         if OWN.contains(&key) {
@@ -59,6 +60,9 @@ pub(super) fn render(t: Option<Tbl<'_>>, unit: f32) -> Result<RenderSettings, Im
     if let Some(v) = t.get("method") {
         r.method = crate::toml_reader::string(t.doc, v, &t.key_path("method"))?.to_owned();
         r.method_place = Some(t.doc.place(&v.span()));
+    }
+    if let Some(n) = t.opt_int("illuminance_samples", 0, 1 << 20)? {
+        r.illuminance_samples = n;
     }
     if let Some((m, _)) = t.choice("masking", &quasar_materials::Masking::NAMES)? {
         r.masking = quasar_materials::Masking::from_name(m).unwrap_or_default();
