@@ -153,3 +153,36 @@ fn render_writes_the_sensor_csv() {
     let want = 0.01 * f64::from(LUMINANCE_PER_Y) * 4.0 * corner(0.6, 0.6, 2.0);
     assert!((e / want - 1.0).abs() < 0.01, "{e} vs {want}");
 }
+
+/// Cylindrical illuminance under a point light of intensity I: E_z = I sin(theta) / (pi d^2),
+/// theta from the vertical (the mean over horizontal directions of the vertical illuminance),
+/// beside the horizontal illuminance I cos(theta) / d^2 at the same place.
+#[test]
+fn cylindrical_illuminance_of_a_point_light() {
+    let toml = r#"
+[camera]
+position = [0, 0.5, 3]
+target = [0, 0.5, 0]
+[[light]]
+type = "point"
+position = [0, 2, 0]
+spectrum = { rgb = [1, 1, 1] }
+scale = 0.01
+[[sensor]]
+name = "cyl"
+type = "point"
+position = [1.5, 0, 0]
+quantity = "cylindrical"
+samples = 262144
+[[sensor]]
+name = "hor"
+type = "point"
+position = [1.5, 0, 0]
+samples = 1024
+"#;
+    let r = measure(toml, &[]);
+    let i = 0.01 * f64::from(LUMINANCE_PER_Y); // cd
+    let (sin, cos, d2) = (0.6, 0.8, 6.25);
+    check("cylindrical", r[0].lux[0], r[0].stderr[0], i * sin / (std::f64::consts::PI * d2));
+    check("horizontal", r[1].lux[0], r[1].stderr[0].max(1e-9), i * cos / d2);
+}

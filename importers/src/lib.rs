@@ -42,7 +42,7 @@ pub use obj::{ObjImporter, ObjMaterials, import_obj};
 pub use obj_lint::{MAX_OBJ_BYTES, MAX_OBJ_TRIANGLES};
 pub use registry::{IMPORTERS, formats, import_scene, importer_for, parse_toml_scene, supported_extensions};
 pub use scene_desc::*;
-pub use sensor_desc::{SensorDesc, SensorLayout};
+pub use sensor_desc::{SensorDesc, SensorLayout, SensorQuantity};
 pub use small_text::MAX_SMALL_FILE_BYTES;
 pub use toml_scene::TomlSceneImporter;
 pub use usd::{UsdImporter, import_usd};

@@ -26,6 +26,17 @@ pub enum SensorLayout {
     },
 }
 
+/// What each meter measures.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SensorQuantity {
+    /// Illuminance on a plane of the sensor's normal (horizontal or vertical illuminance).
+    #[default]
+    Planar,
+    /// Cylindrical illuminance: the mean vertical illuminance over all horizontal directions,
+    /// E_z = (1/pi) integral of L sin(theta) over the sphere (theta from the vertical).
+    Cylindrical,
+}
+
 /// One `[[sensor]]`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SensorDesc {
@@ -37,6 +48,8 @@ pub struct SensorDesc {
     pub normal: Vec3,
     /// Samples per meter.
     pub samples: u32,
+    /// Planar or cylindrical illuminance.
+    pub quantity: SensorQuantity,
 }
 
 impl SensorDesc {

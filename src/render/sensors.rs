@@ -4,8 +4,8 @@
 //! and Emin/Emax), written as CSV.
 
 use glam::Vec3;
-use quasar_importers::SensorDesc;
 use quasar_importers::photometric::LUMINANCE_PER_Y;
+use quasar_importers::{SensorDesc, SensorQuantity};
 use quasar_materials::spectrum::SampledWavelengths;
 use rayon::prelude::*;
 
@@ -28,6 +28,8 @@ pub struct SensorReading {
     pub stderr: Vec<f64>,
     /// Samples per meter.
     pub samples: u32,
+    /// What the meters measure.
+    pub quantity: SensorQuantity,
 }
 
 /// Emin, Eavg, Emax (lx) and the uniformities Emin/Eavg (U0) and Emin/Emax.
@@ -58,7 +60,15 @@ pub fn measure(scene: &Scene, sensor: &SensorDesc, seed: u64) -> SensorReading {
             for s in 0..n {
                 let mut sampler = Sampler::new(seed, k as u64, u64::from(s));
                 let mut wl = SampledWavelengths::sample_visible(sampler.get_1d());
-                let e = illuminance_sample(scene, p, None, sensor.normal, &mut wl, &mut sampler);
+                let normal = match sensor.quantity {
+                    SensorQuantity::Planar => sensor.normal,
+                    // the mean over horizontal normals of the vertical illuminance
+                    SensorQuantity::Cylindrical => {
+                        let phi = 2.0 * std::f32::consts::PI * sampler.get_1d();
+                        Vec3::new(phi.cos(), 0.0, phi.sin())
+                    }
+                };
+                let e = illuminance_sample(scene, p, None, normal, &mut wl, &mut sampler);
                 let v = f64::from(wl.luminance(e) * LUMINANCE_PER_Y);
                 let v = if v.is_finite() { v } else { 0.0 };
                 sum += v;
@@ -69,7 +79,15 @@ pub fn measure(scene: &Scene, sensor: &SensorDesc, seed: u64) -> SensorReading {
             (mean, var.sqrt())
         })
         .unzip();
-    SensorReading { name: sensor.name.clone(), points, normal: sensor.normal, lux, stderr, samples: n }
+    SensorReading {
+        name: sensor.name.clone(),
+        points,
+        normal: sensor.normal,
+        lux,
+        stderr,
+        samples: n,
+        quantity: sensor.quantity,
+    }
 }
 
 impl SensorReading {
@@ -87,10 +105,11 @@ impl SensorReading {
     pub fn csv(&self) -> String {
         let s = self.stats();
         let n = self.normal;
-        let mut out = format!(
-            "# quasar sensor {}: illuminance (lx) on meters with normal ({}, {}, {}), {} samples each\n",
-            self.name, n.x, n.y, n.z, self.samples
-        );
+        let what = match self.quantity {
+            SensorQuantity::Planar => format!("illuminance (lx) on meters with normal ({}, {}, {})", n.x, n.y, n.z),
+            SensorQuantity::Cylindrical => "cylindrical illuminance (lx, vertical axis +Y)".to_string(),
+        };
+        let mut out = format!("# quasar sensor {}: {what}, {} samples each\n", self.name, self.samples);
         out += &format!(
             "# Emin {:.4} lx, Eavg {:.4} lx, Emax {:.4} lx, U0 = Emin/Eavg {:.4}, Emin/Emax {:.4}\n",
             s.min, s.avg, s.max, s.u0, s.min_over_max

@@ -10,11 +10,12 @@
 //! | `normal` | the meters' normal: [0, 1, 0] horizontal illuminance, a horizontal vector vertical illuminance | [0, 1, 0] |
 //! | `u_axis` | a grid's first side (projected onto its plane) | +X, or +Z for a normal along X |
 //! | `samples` | samples per meter | 1024 |
+//! | `quantity` | `"planar"` (on the plane of `normal`) or `"cylindrical"` (mean vertical illuminance over all horizontal directions; `normal` is then the grid's plane only) | `"planar"` |
 
 use glam::Vec3;
 
 use crate::error::ImportError;
-use crate::sensor_desc::{SensorDesc, SensorLayout};
+use crate::sensor_desc::{SensorDesc, SensorLayout, SensorQuantity};
 use crate::toml_reader::Tbl;
 
 /// Most meters of one grid.
@@ -23,7 +24,7 @@ pub const MAX_SENSOR_POINTS: u64 = 1 << 20;
 /// Reads one `[[sensor]]` table; lengths in scene units converted with `unit`.
 pub(super) fn sensor(t: &Tbl<'_>, unit: f32) -> Result<SensorDesc, ImportError> {
     let doc = t.doc;
-    t.check_keys(&["name", "type", "position", "size", "resolution", "normal", "u_axis", "samples"])?;
+    t.check_keys(&["name", "type", "position", "size", "resolution", "normal", "u_axis", "samples", "quantity"])?;
     let name = match t.get("name") {
         Some(v) => crate::toml_reader::string(doc, v, &t.key_path("name"))?.to_owned(),
         None => return Err(t.missing("name")),
@@ -37,6 +38,10 @@ pub(super) fn sensor(t: &Tbl<'_>, unit: f32) -> Result<SensorDesc, ImportError> 
     let position = t.opt_point("position", unit)?.ok_or_else(|| t.missing("position"))?;
     let normal = t.opt_dir("normal")?.unwrap_or(Vec3::Y).normalize();
     let samples = t.opt_int("samples", 1, 1 << 24)?.unwrap_or(1024) as u32;
+    let quantity = match t.choice("quantity", &["planar", "cylindrical"])? {
+        Some(("cylindrical", _)) => SensorQuantity::Cylindrical,
+        _ => SensorQuantity::Planar,
+    };
     let layout = if ty == "point" {
         for k in ["size", "resolution", "u_axis"] {
             if t.has(k) {
@@ -74,5 +79,5 @@ pub(super) fn sensor(t: &Tbl<'_>, unit: f32) -> Result<SensorDesc, ImportError> 
             resolution: [res[0] as u32, res[1] as u32],
         }
     };
-    Ok(SensorDesc { name, layout, normal, samples })
+    Ok(SensorDesc { name, layout, normal, samples, quantity })
 }
