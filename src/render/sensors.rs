@@ -58,19 +58,16 @@ pub fn measure(scene: &Scene, sensor: &SensorDesc, seed: u64) -> SensorReading {
         .map(|(k, &p)| {
             let (mut sum, mut sum2) = (0.0f64, 0.0f64);
             for s in 0..n {
-                let mut sampler = Sampler::new(seed, k as u64, u64::from(s));
-                let mut wl = SampledWavelengths::sample_visible(sampler.get_1d());
-                let normal = match sensor.quantity {
-                    SensorQuantity::Planar => sensor.normal,
-                    // the mean over horizontal normals of the vertical illuminance
-                    SensorQuantity::Cylindrical => {
-                        let phi = 2.0 * std::f32::consts::PI * sampler.get_1d();
-                        Vec3::new(phi.cos(), 0.0, phi.sin())
+                let v = lux_sample(scene, p, None, Sampler::new(seed, k as u64, u64::from(s)), |sampler| {
+                    match sensor.quantity {
+                        SensorQuantity::Planar => sensor.normal,
+                        // the mean over horizontal normals of the vertical illuminance
+                        SensorQuantity::Cylindrical => {
+                            let phi = 2.0 * std::f32::consts::PI * sampler.get_1d();
+                            Vec3::new(phi.cos(), 0.0, phi.sin())
+                        }
                     }
-                };
-                let e = illuminance_sample(scene, p, None, normal, &mut wl, &mut sampler);
-                let v = f64::from(wl.luminance(e) * LUMINANCE_PER_Y);
-                let v = if v.is_finite() { v } else { 0.0 };
+                });
                 sum += v;
                 sum2 += v * v;
             }
@@ -88,6 +85,23 @@ pub fn measure(scene: &Scene, sensor: &SensorDesc, seed: u64) -> SensorReading {
         samples: n,
         quantity: sensor.quantity,
     }
+}
+
+/// One sample of the illuminance (lx) at `p` (rounding bound `p_err`, None in free space) on the
+/// plane whose normal `normal` picks (after the wavelengths, from the same `sampler`); 0 for a
+/// non-finite sample.
+fn lux_sample(
+    scene: &Scene,
+    p: Vec3,
+    p_err: Option<Vec3>,
+    mut sampler: Sampler,
+    normal: impl FnOnce(&mut Sampler) -> Vec3,
+) -> f64 {
+    let mut wl = SampledWavelengths::sample_visible(sampler.get_1d());
+    let n = normal(&mut sampler);
+    let e = illuminance_sample(scene, p, p_err, n, &mut wl, &mut sampler);
+    let v = f64::from(wl.luminance(e) * LUMINANCE_PER_Y);
+    if v.is_finite() { v } else { 0.0 }
 }
 
 impl SensorReading {
@@ -152,11 +166,13 @@ pub fn illuminance_pass(scene: &Scene, camera: &crate::core::camera::Camera, sam
             let n = if si.ng.dot(ray.dir) > 0.0 { -si.ng } else { si.ng };
             let mut sum = 0.0f64;
             for s in 0..samples {
-                let mut sampler = Sampler::new(seed ^ 0x111u64, i as u64, u64::from(s));
-                let mut wl = SampledWavelengths::sample_visible(sampler.get_1d());
-                let e = illuminance_sample(scene, si.p, Some(si.p_err), n, &mut wl, &mut sampler);
-                let v = f64::from(wl.luminance(e) * LUMINANCE_PER_Y);
-                sum += if v.is_finite() { v } else { 0.0 };
+                sum += lux_sample(
+                    scene,
+                    si.p,
+                    Some(si.p_err),
+                    Sampler::new(seed ^ 0x111u64, i as u64, u64::from(s)),
+                    |_| n,
+                );
             }
             (sum / f64::from(samples.max(1))) as f32
         })

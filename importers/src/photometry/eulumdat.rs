@@ -72,6 +72,20 @@ impl<'a> Lines<'a> {
         Ok((v, n))
     }
 
+    /// `n` angles, one per line, increasing within 0..=`max` degrees.
+    fn angles(&mut self, n: usize, what: &str, max: f64) -> Result<Vec<f32>, ImportError> {
+        let mut out: Vec<f32> = Vec::with_capacity(n);
+        for i in 0..n {
+            let (a, line) = self.number(&format!("{what} angle {}", i + 1))?;
+            if !(0.0..=max).contains(&a) || out.last().is_some_and(|&p| a as f32 <= p) {
+                let msg = format!("{what} angles must increase within 0..{max}, got {a}");
+                return Err(self.err(ImportErrorKind::InvalidValue, line, msg));
+            }
+            out.push(a as f32);
+        }
+        Ok(out)
+    }
+
     fn count(&mut self, what: &str, lo: usize, max: usize) -> Result<usize, ImportError> {
         let (v, n) = self.number(what)?;
         if v.fract() != 0.0 || v < lo as f64 || v > max as f64 {
@@ -141,30 +155,8 @@ pub fn parse_ldt(text: &str, path: &Path) -> Result<LdtFile, ImportError> {
     for _ in 0..10 {
         l.number("a direct ratio")?;
     }
-    let mut c_angles = Vec::with_capacity(mc);
-    for i in 0..mc {
-        let (c, n) = l.number(&format!("C angle {}", i + 1))?;
-        if !(0.0..=360.0).contains(&c) || c_angles.last().is_some_and(|&p: &f32| c as f32 <= p) {
-            return Err(l.err(
-                ImportErrorKind::InvalidValue,
-                n,
-                format!("C angles must increase within 0..360, got {c}"),
-            ));
-        }
-        c_angles.push(c as f32);
-    }
-    let mut vertical_deg = Vec::with_capacity(ng);
-    for i in 0..ng {
-        let (g, n) = l.number(&format!("gamma angle {}", i + 1))?;
-        if !(0.0..=180.0).contains(&g) || vertical_deg.last().is_some_and(|&p: &f32| g as f32 <= p) {
-            return Err(l.err(
-                ImportErrorKind::InvalidValue,
-                n,
-                format!("gamma angles must increase within 0..180, got {g}"),
-            ));
-        }
-        vertical_deg.push(g as f32);
-    }
+    let c_angles = l.angles(mc, "C", 360.0)?;
+    let vertical_deg = l.angles(ng, "gamma", 180.0)?;
     // the stored planes, as indices into c_angles
     let planes: Vec<usize> = match isym {
         0 => (0..mc).collect(),

@@ -36,10 +36,7 @@ pub(super) fn with_ies_profile(
         None => value::raw(prim, "shaping:ies:file")?,
     };
     let Some(openusd::sdf::Value::AssetPath(asset)) = file else { return Ok(light) };
-    let path = match asset.resolved_path() {
-        Some(r) if !r.is_empty() => std::path::PathBuf::from(r),
-        _ => stage_file.parent().unwrap_or(std::path::Path::new(".")).join(asset.asset_path()),
-    };
+    let path = value::asset_file(&asset, stage_file);
     let attr = "inputs:shaping:ies:file".to_string();
     let (web, _) = read_photometric_file(&path).map_err(|e| (attr.clone(), e.to_string()))?;
     let web_flux = web.flux();

@@ -132,10 +132,7 @@ fn dome(
     let Some(openusd::sdf::Value::AssetPath(asset)) = file else {
         return Ok(UsdLight::Light(LightDesc::Environment { spectrum, scale, map: None }));
     };
-    let path = match asset.resolved_path() {
-        Some(r) if !r.is_empty() => std::path::PathBuf::from(r),
-        _ => stage_file.parent().unwrap_or(std::path::Path::new(".")).join(asset.asset_path()),
-    };
+    let path = value::asset_file(&asset, stage_file);
     let format = value::token(prim, "inputs:texture:format")?.unwrap_or_else(|| "automatic".into());
     if !matches!(format.as_str(), "automatic" | "latlong") {
         notes.push(format!("texture:format `{format}` is read as latlong"));

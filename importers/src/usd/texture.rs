@@ -98,10 +98,7 @@ fn file(stage: &Stage, tex: &Prim, stage_file: &Path) -> Option<PathBuf> {
             continue;
         }
         return match value::raw(&prim, &attr).ok().flatten()? {
-            sdf::Value::AssetPath(a) => match a.resolved_path() {
-                Some(r) if !r.is_empty() => Some(PathBuf::from(r)),
-                _ => Some(stage_file.parent().unwrap_or(Path::new(".")).join(a.asset_path())),
-            },
+            sdf::Value::AssetPath(a) => Some(value::asset_file(&a, stage_file)),
             sdf::Value::String(s) => Some(stage_file.parent().unwrap_or(Path::new(".")).join(s)),
             _ => None,
         };

@@ -203,3 +203,12 @@ pub(super) fn check_op_order(prim: &Prim) -> Result<(), AttrError> {
     }
     Ok(())
 }
+
+/// The file an asset path names: the path the resolver found, else the authored path relative to
+/// the stage file's folder.
+pub(super) fn asset_file(asset: &openusd::sdf::AssetPath, stage_file: &std::path::Path) -> std::path::PathBuf {
+    match asset.resolved_path() {
+        Some(r) if !r.is_empty() => std::path::PathBuf::from(r),
+        _ => stage_file.parent().unwrap_or(std::path::Path::new(".")).join(asset.asset_path()),
+    }
+}
