@@ -2,7 +2,9 @@
 
 pub mod atomic;
 pub mod exr_file;
+pub mod false_colour;
 pub mod preview;
+pub mod text;
 
 pub use atomic::{WriteError, write_atomic, write_atomic_bytes, write_png_atomic};
 pub use exr_file::{ExrImage, read_exr, write_exr_atomic};
