@@ -186,3 +186,38 @@ samples = 1024
     check("cylindrical", r[0].lux[0], r[0].stderr[0], i * sin / (std::f64::consts::PI * d2));
     check("horizontal", r[1].lux[0], r[1].stderr[0].max(1e-9), i * cos / d2);
 }
+
+/// `--false-colour luminance` writes `<image>.luminance.png` whose map pixels are the ramp
+/// colours of the EXR's luminance.Y values on the stated range, beside its legend; a sensor grid
+/// gets `<image>.<sensor>.png`; asking for illuminance without its layer is refused up front.
+#[test]
+fn render_writes_false_colour_maps_with_legends() {
+    use quasar::output::false_colour::{ColourScale, FalseColour};
+    let grid = "[[sensor]]\nname = \"floor\"\ntype = \"grid\"\nposition = [0, 0, 0]\nsize = [1, 1]\nresolution = [4, 3]\nsamples = 16\n";
+    let s = common::write_scene(&format!("[render]\nwidth = 16\nheight = 16\nspp = 4\n{SQUARE}{grid}"), &[]);
+    let exr = s.dir.path().join("img.exr");
+    let run = |extra: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_quasar"))
+            .args(["render", s.path.to_str().unwrap(), "-o", exr.to_str().unwrap(), "--quiet"])
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let refused = run(&["--false-colour", "illuminance"]);
+    assert!(!refused.status.success() && String::from_utf8_lossy(&refused.stderr).contains("--illuminance-samples"));
+    assert!(!exr.exists(), "nothing is rendered when an output cannot be made");
+    let out = run(&["--false-colour", "luminance", "--false-colour-range", "0.1:1000"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let img = quasar::output::read_exr(&exr).unwrap();
+    let lum = img.channel("luminance.Y").unwrap();
+    let png = image::open(s.dir.path().join("img.luminance.png")).unwrap().to_rgb8();
+    let fc = FalseColour { min: 0.1, max: 1000.0, scale: ColourScale::Log, title: String::new() };
+    let k = 320 / 16;
+    assert!(png.width() > 320 && png.height() == 320);
+    for (i, &v) in lum.iter().enumerate() {
+        let (x, y) = ((i % 16) as u32 * k, (i / 16) as u32 * k);
+        assert_eq!(png.get_pixel(x, y).0, quasar::output::false_colour::ramp(fc.t(f64::from(v))), "pixel {i}");
+    }
+    let map = image::open(s.dir.path().join("img.floor.png")).unwrap().to_rgb8();
+    assert!(map.width() > 4 * 80 && map.height() == 320);
+}

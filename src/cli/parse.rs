@@ -85,6 +85,17 @@ pub fn parse_time_code(s: &str) -> Result<f64, String> {
     }
 }
 
+/// Parses `MIN:MAX` for `--false-colour-range` (finite, MIN < MAX).
+pub fn parse_range(s: &str) -> Result<(f64, f64), String> {
+    let (a, b) = s.split_once(':').ok_or("expected MIN:MAX, e.g. 10:1000")?;
+    let (a, b): (f64, f64) =
+        (a.trim().parse().map_err(|_| "MIN is not a number")?, b.trim().parse().map_err(|_| "MAX is not a number")?);
+    if !(a.is_finite() && b.is_finite() && a < b) {
+        return Err(format!("{s}: need finite MIN < MAX"));
+    }
+    Ok((a, b))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -108,5 +119,7 @@ mod tests {
         assert!(parse_exposure("nan").is_err() && parse_exposure("inf").is_err());
         assert!(parse_positive("0").is_err() && parse_positive("-3").is_err() && parse_positive("nan").is_err());
         assert_eq!(parse_positive("2.5"), Ok(2.5));
+        assert_eq!(parse_range("10:1000"), Ok((10.0, 1000.0)));
+        assert!(parse_range("5:5").is_err() && parse_range("1000").is_err() && parse_range("a:3").is_err());
     }
 }

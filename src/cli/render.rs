@@ -4,17 +4,19 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use clap::{Arg, ArgAction, ArgMatches, Args, Command, FromArgMatches};
 use quasar::integrator::method::{METHODS, all_params, method_names, users_of};
 use quasar::integrator::params::{MethodParams, ParamKind};
+use quasar::output::false_colour::{ColourScale, FalseColour};
 use quasar::output::preview::{Exposure, View};
 use quasar::render::default_light::{DefaultLight, add_default_light};
 use quasar::render::job::{JobOverrides, render_desc, write_outputs_with_preview};
 use quasar_importers::ImportOptions;
 
 use super::parse::{
-    parse_exposure, parse_masking, parse_positive, parse_shard, parse_threads, parse_time_code, parse_units, same_file,
+    parse_exposure, parse_masking, parse_positive, parse_range, parse_shard, parse_threads, parse_time_code,
+    parse_units, same_file,
 };
 
 /// The arguments of `quasar render`.
@@ -98,6 +100,18 @@ pub struct RenderArgs {
     /// Also write a tone-mapped PNG preview.
     #[arg(long)]
     pub preview: Option<PathBuf>,
+    /// Also write a false-colour PNG with a legend of `luminance` (cd/m², the luminance.Y layer)
+    /// or `illuminance` (lx, the illuminance.Y layer: needs --illuminance-samples) as
+    /// `<stem>.<quantity>.png` beside the EXR.
+    #[arg(long, value_name = "QUANTITY", value_parser = ["luminance", "illuminance"])]
+    pub false_colour: Option<String>,
+    /// Scale of the false-colour maps (this flag's and the sensor grids'): `log` or `linear`
+    /// (default: log for --false-colour, linear for sensor grids).
+    #[arg(long, value_parser = ColourScale::from_name)]
+    pub false_colour_scale: Option<ColourScale>,
+    /// Value range MIN:MAX of the --false-colour map (default: fitted to the image).
+    #[arg(long, value_parser = parse_range)]
+    pub false_colour_range: Option<(f64, f64)>,
     /// Do not show a progress bar.
     #[arg(long)]
     pub quiet: bool,
@@ -192,6 +206,9 @@ pub fn render(args: RenderArgs) -> Result<ExitCode> {
         illuminance_samples,
         default_light,
         preview,
+        false_colour,
+        false_colour_scale,
+        false_colour_range,
         exposure,
         view,
         quiet,
@@ -230,13 +247,45 @@ pub fn render(args: RenderArgs) -> Result<ExitCode> {
             anyhow::bail!("{}: the directory {} does not exist", path.display(), dir.display());
         }
     }
+    let false_colour_map = match false_colour.as_deref() {
+        Some(q) => {
+            let (layer, title) = if q == "luminance" {
+                ("luminance.Y", "luminance (cd/m²)")
+            } else {
+                ("illuminance.Y", "illuminance (lx)")
+            };
+            if layer == "illuminance.Y" && ov.illuminance_samples.unwrap_or(desc.render.illuminance_samples) == 0 {
+                anyhow::bail!("--false-colour illuminance needs the illuminance.Y layer: give --illuminance-samples N");
+            }
+            let scale = false_colour_scale.unwrap_or(ColourScale::Log);
+            if let Some((min, max)) = false_colour_range {
+                FalseColour { min, max, scale, title: title.into() }.validate().map_err(|e| anyhow::anyhow!(e))?;
+            }
+            Some((q.to_string(), layer, title, scale))
+        }
+        None => None,
+    };
     let out = render_desc(&desc, &ov, !quiet)?;
     for w in &out.result.warnings {
         eprintln!("warning: {w}");
     }
     write_outputs_with_preview(&out, &exr, preview.as_ref(), exposure, view)?;
+    if let Some((q, layer, title, scale)) = false_colour_map {
+        let img = &out.image;
+        let values = img.channel(layer).with_context(|| format!("the image has no {layer} layer"))?;
+        let fc = match false_colour_range {
+            Some((min, max)) => FalseColour { min, max, scale, title: title.into() },
+            None => FalseColour::fit(values, scale, title),
+        };
+        let path = exr.with_file_name(format!("{}.{q}.png", file_stem(&exr)));
+        quasar::output::write_png_atomic(&path, &fc.image(values, img.width, img.height))?;
+        if !quiet {
+            eprintln!("false colour of {layer} ({}..{}) -> {}", fc.min, fc.max, path.display());
+        }
+    }
     if !desc.sensors.is_empty() && !out.result.interrupted {
-        write_sensors(&desc, &exr, ov.seed.unwrap_or(desc.render.seed), quiet)?;
+        let scale = false_colour_scale.unwrap_or(ColourScale::Linear);
+        write_sensors(&desc, &exr, ov.seed.unwrap_or(desc.render.seed), scale, quiet)?;
     }
     if out.result.interrupted {
         eprintln!("interrupted: wrote the partial image {} ({} spp)", exr.display(), out.result.spp);
@@ -257,14 +306,26 @@ pub fn render(args: RenderArgs) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// The CSV path of sensor `name` for the image `exr`: `<stem>.<name>.csv` beside it.
-pub fn sensor_csv_path(exr: &std::path::Path, name: &str) -> PathBuf {
-    let stem = exr.file_stem().map_or("out".into(), |s| s.to_string_lossy().into_owned());
-    exr.with_file_name(format!("{stem}.{name}.csv"))
+/// The file name of `path` without its extension (`out` when it has none).
+fn file_stem(path: &std::path::Path) -> String {
+    path.file_stem().map_or("out".into(), |s| s.to_string_lossy().into_owned())
 }
 
-/// Measures the scene's `[[sensor]]`s and writes each one's CSV beside the image.
-fn write_sensors(desc: &quasar_importers::SceneDesc, exr: &std::path::Path, seed: u64, quiet: bool) -> Result<()> {
+/// The CSV path of sensor `name` for the image `exr`: `<stem>.<name>.csv` beside it.
+pub fn sensor_csv_path(exr: &std::path::Path, name: &str) -> PathBuf {
+    exr.with_file_name(format!("{}.{name}.csv", file_stem(exr)))
+}
+
+/// Measures the scene's `[[sensor]]`s and writes each one's CSV beside the image, and for a
+/// grid of more than one meter its false-colour map `<stem>.<name>.png` (plan view: the first
+/// side to the right, the second side up).
+fn write_sensors(
+    desc: &quasar_importers::SceneDesc,
+    exr: &std::path::Path,
+    seed: u64,
+    scale: ColourScale,
+    quiet: bool,
+) -> Result<()> {
     let scene = quasar::core::scene::Scene::compile(desc)?;
     for sensor in &desc.sensors {
         let reading = quasar::render::sensors::measure(&scene, sensor, seed ^ 0x5e45_0125);
@@ -272,6 +333,20 @@ fn write_sensors(desc: &quasar_importers::SceneDesc, exr: &std::path::Path, seed
         quasar::output::atomic::write_atomic_bytes(&path, reading.csv().as_bytes())?;
         if !quiet {
             eprintln!("{} -> {}", reading.summary(), path.display());
+        }
+        if let quasar_importers::SensorLayout::Grid { resolution: [nx, ny], .. } = sensor.layout
+            && nx * ny > 1
+        {
+            let (nx, ny) = (nx as usize, ny as usize);
+            // rows of the CSV run along the second side from its start; the map puts that start at the bottom
+            let values: Vec<f32> =
+                (0..ny).rev().flat_map(|j| reading.lux[j * nx..(j + 1) * nx].iter().map(|&v| v as f32)).collect();
+            let fc = FalseColour::fit(&values, scale, &format!("{} (lx)", sensor.name));
+            let png = exr.with_file_name(format!("{}.{}.png", file_stem(exr), sensor.name));
+            quasar::output::write_png_atomic(&png, &fc.image(&values, nx, ny))?;
+            if !quiet {
+                eprintln!("{} map -> {}", sensor.name, png.display());
+            }
         }
     }
     Ok(())

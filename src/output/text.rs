@@ -69,8 +69,8 @@ pub fn draw_text(img: &mut image::RgbImage, x: f32, y: f32, px: f32, text: &str,
             }
             let p = img.get_pixel_mut(px_x as u32, px_y as u32);
             let c = c.clamp(0.0, 1.0);
-            for k in 0..3 {
-                p.0[k] = (f32::from(p.0[k]) * (1.0 - c) + f32::from(colour[k]) * c).round() as u8;
+            for (dst, &src) in p.0.iter_mut().zip(colour.iter()) {
+                *dst = (f32::from(*dst) * (1.0 - c) + f32::from(src) * c).round() as u8;
             }
         });
     }
