@@ -3,7 +3,7 @@
 //! "False colour"). The colour ramp is viridis (perceptually uniform, readable in greyscale);
 //! values below the range take the lowest colour, above it the highest.
 
-use crate::output::text::{Align, draw_text};
+use crate::output::text::{Align, draw_text, text_width};
 
 /// How values map to the colour ramp.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -145,13 +145,15 @@ impl FalseColour {
         let k = (320usize.div_ceil(w.max(h).max(1))).max(1) as u32;
         let (mw, mh) = (w as u32 * k, h as u32 * k);
         let px = (mh as f32 / 24.0).clamp(12.0, 18.0);
-        let panel = (11.0 * px) as u32;
+        let panel = (11.0 * px).max(text_width(&self.title, px) + 1.2 * px).ceil() as u32;
         let total_h = mh.max(320);
+        // a map lower than the legend is centred vertically beside it
+        let y0 = (total_h - mh) / 2;
         let mut img = image::RgbImage::from_pixel(mw + panel, total_h, image::Rgb([255, 255, 255]));
         for y in 0..mh {
             for x in 0..mw {
                 let v = values[(y / k) as usize * w + (x / k) as usize];
-                img.put_pixel(x, y, image::Rgb(ramp(self.t(f64::from(v)))));
+                img.put_pixel(x, y0 + y, image::Rgb(ramp(self.t(f64::from(v)))));
             }
         }
         let (bar_x, bar_w) = (mw + (1.2 * px) as u32, (1.2 * px) as u32);
