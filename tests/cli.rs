@@ -213,6 +213,12 @@ fn bsdf_command_reports_plots_converts_and_refuses() {
     let img = image::open(&png).unwrap().to_rgb8();
     assert_eq!(img.dimensions(), (720, 720));
     assert!(img.pixels().any(|p| p.0 == [220, 30, 30]), "the 30 degree curve is drawn");
+    // drawn text: the title (top left) and the legend box (top right, outside the rim circle)
+    let dark = |x0: u32, x1: u32, y0: u32, y1: u32| {
+        (y0..y1).flat_map(|y| (x0..x1).map(move |x| (x, y))).filter(|&(x, y)| img.get_pixel(x, y).0[0] < 100).count()
+    };
+    assert!(dark(0, 250, 0, 22) > 60, "the plot's title");
+    assert!(dark(610, 715, 6, 90) > 60, "the legend's labels");
 
     // A table that scatters more than it receives: the report shows it and the exit code fails.
     let hot = dir.path().join("hot.toml");

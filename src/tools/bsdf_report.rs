@@ -14,6 +14,7 @@ use quasar_materials::spectrum::SampledWavelengths;
 use quasar_materials::tabulated::{ALBEDO_TOLERANCE, BackFace, ScatterGrid, ScatterTable};
 use quasar_materials::{Material, TabulatedBsdf, TabulatedTable, TransportMode};
 
+use crate::output::text::Align;
 use crate::tools::plot::{Canvas, PLOT_COLOURS};
 
 /// Largest number of wavelength columns printed (evenly chosen from the table's).
@@ -145,8 +146,9 @@ pub fn report(table: &Arc<TabulatedTable>, file: &Path) -> BsdfReport {
 /// Writes a 720 x 720 polar plot of the front face's lobes in the plane of incidence for
 /// incidence angles 0, 30, 60 and 80 degrees (light arriving from the upper left; reflection
 /// above the horizontal surface line, transmission below; radius log10 f over four decades below
-/// the largest value, one grey circle per decade), at the wavelength nearest 555 nm. Returns the
-/// legend.
+/// the largest value, one grey circle per decade labelled with its f), at the wavelength nearest
+/// 555 nm, with a title, the two half-planes named and a legend box of the incidence angles.
+/// Returns the same legend as text.
 pub fn write_lobe_plot(table: &TabulatedTable, path: &Path) -> Result<String> {
     const SIZE: u32 = 720;
     const STEPS: usize = 14_400;
@@ -185,6 +187,30 @@ pub fn write_lobe_plot(table: &TabulatedTable, path: &Path) -> Result<String> {
     }
     c.line((cx - rim, cy), (cx + rim, cy), [0, 0, 0]);
     c.line((cx, cy - rim), (cx, cy + rim), [200, 200, 200]);
+    const PX: f32 = 14.0;
+    let black = [0, 0, 0];
+    // each decade circle labelled with its f where it crosses the surface line, right of the centre
+    for d in 0..=decades as i32 {
+        let r = rim * f64::from(d) / decades;
+        let label = format!("{:.2e}", 10f64.powf(lo + f64::from(d)));
+        c.text(cx + r - 2.0, cy + 0.9 * f64::from(PX), PX, &label, [90, 90, 90], Align::Right);
+    }
+    c.text(
+        6.0,
+        12.0,
+        PX,
+        &format!("f (1/sr) at {:.0} nm, plane of incidence, log radius", wl.lambda(0)),
+        black,
+        Align::Left,
+    );
+    c.text(6.0, cy - 0.9 * f64::from(PX), PX, "reflection", black, Align::Left);
+    c.text(6.0, cy + 0.9 * f64::from(PX), PX, "transmission", black, Align::Left);
+    let entries: Vec<(String, [u8; 3])> = incidences
+        .iter()
+        .enumerate()
+        .map(|(k, deg)| (format!("incidence {deg} deg"), PLOT_COLOURS[k % PLOT_COLOURS.len()].1))
+        .collect();
+    c.legend(f64::from(SIZE) - 6.0, 6.0, PX, &entries);
     let mut legend = format!(
         "lobe plot (front face, {} nm): plane of incidence, light from the upper left; the surface is the \
          horizontal line, reflection above, transmission below; radius log10 f from {:.3e} (centre) to {:.3e} \

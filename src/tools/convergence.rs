@@ -10,6 +10,7 @@ use quasar_importers::SceneDesc;
 
 use crate::integrator::entry::MethodEntry;
 use crate::integrator::params::{MethodParams, ParamKind};
+use crate::output::text::Align;
 use crate::render::job::{JobOverrides, render_desc};
 use crate::tools::compare::rel_mse;
 use crate::tools::plot::{Canvas, PLOT_COLOURS};
@@ -212,13 +213,19 @@ pub fn markdown_table(points: &[CurvePoint], target: f64) -> String {
     s
 }
 
-/// Writes a 640x480 log-log plot of relMSE (vertical) against seconds (horizontal): grey lines at
-/// every power of ten, one polyline per method in [`PLOT_COLOURS`] order, a dot per render. It has
-/// no text: the legend and the axis ranges are returned as a string to print beside it.
+/// Writes a 720x520 log-log plot of relMSE (vertical) against seconds (horizontal): axes with a
+/// tick label and a grey line at every power of ten, axis titles, one polyline per method in
+/// [`PLOT_COLOURS`] order with a marker per render, and a legend box naming the methods. The
+/// same legend and the axis ranges are returned as text to print beside it.
 pub fn write_plot(points: &[CurvePoint], path: &Path) -> Result<String> {
-    const W: u32 = 640;
-    const H: u32 = 480;
-    const M: f64 = 20.0;
+    const W: u32 = 720;
+    const H: u32 = 520;
+    // margins: left for the vertical tick labels, bottom for the horizontal ones and the title
+    const L: f64 = 64.0;
+    const R: f64 = 20.0;
+    const T: f64 = 34.0;
+    const B: f64 = 52.0;
+    const PX: f32 = 14.0;
     let finite: Vec<&CurvePoint> = points.iter().filter(|p| p.rel_mse > 0.0 && p.seconds > 0.0).collect();
     if finite.is_empty() {
         bail!("nothing to plot");
@@ -231,26 +238,36 @@ pub fn write_plot(points: &[CurvePoint], path: &Path) -> Result<String> {
         y1 = y1.max(p.rel_mse.log10());
     }
     let (x0, x1, y0, y1) = (x0.floor(), x1.ceil().max(x0.floor() + 1.0), y0.floor(), y1.ceil().max(y0.floor() + 1.0));
+    let (w, h) = (f64::from(W), f64::from(H));
     let to_px = |s: f64, e: f64| {
-        let x = M + (s.log10() - x0) / (x1 - x0) * (W as f64 - 2.0 * M);
-        let y = H as f64 - M - (e.log10() - y0) / (y1 - y0) * (H as f64 - 2.0 * M);
+        let x = L + (s.log10() - x0) / (x1 - x0) * (w - L - R);
+        let y = h - B - (e.log10() - y0) / (y1 - y0) * (h - T - B);
         (x, y)
     };
     let mut img = Canvas::new(W, H);
+    let black = [0, 0, 0];
     for d in x0 as i32..=x1 as i32 {
         let (x, _) = to_px(10f64.powi(d), 10f64.powf(y0));
-        img.line((x, M), (x, H as f64 - M), [200, 200, 200]);
+        img.line((x, T), (x, h - B), [200, 200, 200]);
+        img.text(x, h - B + 0.9 * f64::from(PX), PX, &format!("1e{d}"), black, Align::Centre);
     }
     for d in y0 as i32..=y1 as i32 {
         let (_, y) = to_px(10f64.powf(x0), 10f64.powi(d));
-        img.line((M, y), (W as f64 - M, y), [200, 200, 200]);
+        img.line((L, y), (w - R, y), [200, 200, 200]);
+        img.text(L - 0.4 * f64::from(PX), y, PX, &format!("1e{d}"), black, Align::Right);
     }
+    img.line((L, T), (L, h - B), black);
+    img.line((L, h - B), (w - R, h - B), black);
+    img.text((L + w - R) / 2.0, h - 0.6 * f64::from(PX), PX, "render time (s), log scale", black, Align::Centre);
+    img.text(L, T / 2.0, PX, "relMSE of Y against the reference, log scale", black, Align::Left);
     let mut legend = format!(
         "plot: seconds 1e{x0}..1e{x1} (horizontal, log), relMSE 1e{y0}..1e{y1} (vertical, log); grid at powers of ten\n"
     );
+    let mut entries = Vec::new();
     for (k, label) in labels(points).iter().enumerate() {
         let (name, colour) = PLOT_COLOURS[k % PLOT_COLOURS.len()];
         legend += &format!("  {name}: {label}\n");
+        entries.push((label.to_string(), colour));
         let pts: Vec<(f64, f64)> =
             finite.iter().filter(|p| p.label == *label).map(|p| to_px(p.seconds, p.rel_mse)).collect();
         for w in pts.windows(2) {
@@ -260,6 +277,7 @@ pub fn write_plot(points: &[CurvePoint], path: &Path) -> Result<String> {
             img.marker(x, y, colour);
         }
     }
+    img.legend(w - R - 6.0, T + 6.0, PX, &entries);
     img.save(path)?;
     Ok(legend)
 }
@@ -359,5 +377,39 @@ mod tests {
         assert!((t - 2.0).abs() < 1e-6, "{t}");
         assert_eq!(time_to_reach(&curve, 0.5), Some(1.0));
         assert_eq!(time_to_reach(&curve, 0.001), None);
+    }
+
+    #[test]
+    fn the_plot_has_tick_labels_axis_titles_and_a_legend() {
+        let point = |label: &str, seconds: f64, rel_mse: f64| CurvePoint {
+            label: label.into(),
+            budget: seconds,
+            seconds,
+            samples: 1,
+            rel_mse,
+        };
+        let points =
+            [point("pt", 0.5, 0.02), point("pt", 1.0, 0.01), point("vismap", 0.5, 0.03), point("vismap", 1.0, 0.015)];
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("curves.png");
+        let text = write_plot(&points, &path).unwrap();
+        assert!(text.contains("black: pt") && text.contains("red: vismap"), "{text}");
+        let img = image::open(&path).unwrap().to_rgb8();
+        let dark = |x0: u32, x1: u32, y0: u32, y1: u32| {
+            (y0..y1)
+                .flat_map(|y| (x0..x1).map(move |x| (x, y)))
+                .filter(|&(x, y)| img.get_pixel(x, y).0[0] < 100)
+                .count()
+        };
+        let (w, h) = img.dimensions();
+        assert!(dark(0, 60, 24, h - 44) > 30, "vertical tick labels in the left margin");
+        assert!(dark(70, w - 30, h - 48, h) > 60, "horizontal tick labels and the axis title below the axis");
+        // the legend box (top right) holds each curve's colour swatch and dark label text
+        let legend: Vec<[u8; 3]> = (30..120)
+            .flat_map(|y| (w - 200..w - 20).map(move |x| (x, y)))
+            .map(|(x, y)| img.get_pixel(x, y).0)
+            .collect();
+        assert!(legend.contains(&[220, 30, 30]), "the vismap swatch");
+        assert!(legend.iter().filter(|p| p[0] < 60 && p[1] < 60 && p[2] < 60).count() > 40, "legend text");
     }
 }

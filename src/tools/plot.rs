@@ -1,9 +1,13 @@
-//! A tiny raster canvas for the text-free PNG plots of `quasar bench convergence` and
-//! `quasar bsdf --plot` (lines, dots, atomic PNG writes); legends are printed beside them.
+//! A small raster canvas for the PNG plots of `quasar bench convergence` and `quasar bsdf
+//! --plot`: lines, dots, text (tick labels, axis titles) and a legend box, drawn with the
+//! bundled font of [`crate::output::text`]; written atomically. The commands also print the
+//! legend as text.
 
 use std::path::Path;
 
 use anyhow::Result;
+
+use crate::output::text::{Align, draw_text, text_width};
 
 /// Colours of successive curves, with the names printed in legends.
 pub const PLOT_COLOURS: [(&str, [u8; 3]); 8] = [
@@ -50,6 +54,34 @@ impl Canvas {
         for i in 0..=n {
             let t = i as f64 / n as f64;
             self.dot(a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1), c);
+        }
+    }
+
+    /// One line of text at size `px`, its vertical middle at `y`, anchored at `x` by `align`.
+    pub fn text(&mut self, x: f64, y: f64, px: f32, text: &str, c: [u8; 3], align: Align) {
+        draw_text(&mut self.img, x as f32, y as f32, px, text, c, align);
+    }
+
+    /// A legend box whose top-right corner is (`right`, `top`): per entry a short line in its
+    /// colour and its label, at size `px`, on white with a grey frame.
+    pub fn legend(&mut self, right: f64, top: f64, px: f32, entries: &[(String, [u8; 3])]) {
+        let px64 = f64::from(px);
+        let (row, swatch, pad) = (1.5 * px64, 2.0 * px64, 0.6 * px64);
+        let label_w = entries.iter().map(|(l, _)| f64::from(text_width(l, px))).fold(0.0, f64::max);
+        let (w, h) = (pad * 3.0 + swatch + label_w, pad * 2.0 + row * entries.len() as f64);
+        let left = right - w;
+        for y in top as i64..=(top + h) as i64 {
+            for x in left as i64..=right as i64 {
+                let edge = y == top as i64 || y == (top + h) as i64 || x == left as i64 || x == right as i64;
+                self.dot(x as f64, y as f64, if edge { [160, 160, 160] } else { [255, 255, 255] });
+            }
+        }
+        for (i, (label, c)) in entries.iter().enumerate() {
+            let y = top + pad + row * (i as f64 + 0.5);
+            for dy in [-1.0, 0.0, 1.0] {
+                self.line((left + pad, y + dy), (left + pad + swatch, y + dy), *c);
+            }
+            self.text(left + 2.0 * pad + swatch, y, px, label, [0, 0, 0], Align::Left);
         }
     }
 
