@@ -104,10 +104,7 @@ position = [0, {HEIGHT}, 0]
 /// table as interpolated (its agreement with `candela` at the measured angles is the parsers'
 /// unit tests' business).
 fn analytic(web: &PhotometricWeb, camera: &Camera, f: Vec2, roll_deg: f32) -> f64 {
-    let r = camera.ray(f);
-    let t = -r.origin.y / r.dir.y;
-    let p = r.origin + r.dir * t;
-    let d = p - glam::Vec3::new(0.0, HEIGHT, 0.0);
+    let d = common::floor_hit(camera, f) - glam::Vec3::new(0.0, HEIGHT, 0.0);
     let dist2 = d.length_squared();
     let w = d / dist2.sqrt();
     // luminaire frame: x = C0, y = C90, z = up, rolled counter-clockwise seen from above
@@ -286,13 +283,7 @@ fn shipped_office_downlight_states_its_flux() {
 #[test]
 fn illuminance_layer_is_the_inverse_square_law() {
     let s = common::write_scene(&scene("lamp.ies", ""), &[("lamp.ies", &ies_text())]);
-    let ov = JobOverrides {
-        spp: Some(1),
-        method: Some("pt".into()),
-        threads: Some(2),
-        illuminance_samples: Some(4096),
-        ..Default::default()
-    };
+    let ov = common::illuminance_layer_ov(4096);
     let img = common::render_file(&s.path, &ov).image;
     let e = img.channel("illuminance.Y").expect("the illuminance layer");
     let (web, _) = read_photometric_file(&s.dir.path().join("lamp.ies")).unwrap();

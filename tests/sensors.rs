@@ -235,15 +235,7 @@ fn illuminance_layer_under_an_area_light_matches_the_closed_form() {
         SQUARE.replace("position = [0, 0.5, 3]\ntarget = [0, 0.5, 0]", "position = [0, 1.2, 1.4]\ntarget = [0, 0, 0]");
     let toml = format!("{toml}{floor}");
     let s = common::write_scene(&toml, &[]);
-    let ov = quasar::render::job::JobOverrides {
-        spp: Some(1),
-        width: Some(12),
-        height: Some(12),
-        method: Some("pt".into()),
-        threads: Some(2),
-        illuminance_samples: Some(16384),
-        ..Default::default()
-    };
+    let ov = common::illuminance_layer_ov(16384);
     let img = common::render_file(&s.path, &ov).image;
     let e = img.channel("illuminance.Y").expect("the illuminance layer");
     let desc = quasar::render::job::load_scene(&s.path).unwrap();
@@ -253,8 +245,7 @@ fn illuminance_layer_under_an_area_light_matches_the_closed_form() {
     let signed = |a: f64, b: f64| a.signum() * b.signum() * corner(a.abs(), b.abs(), 2.0);
     let (mut worst, mut sum) = (0.0f64, 0.0);
     for (i, &got) in e.iter().enumerate() {
-        let r = camera.ray(glam::Vec2::new((i % 12) as f32 + 0.5, (i / 12) as f32 + 0.5));
-        let p = r.origin + r.dir * (-r.origin.y / r.dir.y);
+        let p = common::floor_hit(&camera, glam::Vec2::new((i % 12) as f32 + 0.5, (i / 12) as f32 + 0.5));
         let (px, pz) = (f64::from(p.x), f64::from(p.z));
         let want = l
             * (signed(0.6 - px, 0.6 - pz) - signed(-0.6 - px, 0.6 - pz) - signed(0.6 - px, -0.6 - pz)

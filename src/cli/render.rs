@@ -258,10 +258,12 @@ pub fn render(args: RenderArgs) -> Result<ExitCode> {
                 anyhow::bail!("--false-colour illuminance needs the illuminance.Y layer: give --illuminance-samples N");
             }
             let scale = false_colour_scale.unwrap_or(ColourScale::Log);
-            if let Some((min, max)) = false_colour_range {
-                FalseColour { min, max, scale, title: title.into() }.validate().map_err(|e| anyhow::anyhow!(e))?;
+            // a given range is checked before the render; without one the range is fitted after it
+            let fixed = false_colour_range.map(|(min, max)| FalseColour { min, max, scale, title: title.into() });
+            if let Some(fc) = &fixed {
+                fc.validate().map_err(|e| anyhow::anyhow!(e))?;
             }
-            Some((q.to_string(), layer, title, scale))
+            Some((q.to_string(), layer, title, scale, fixed))
         }
         None => None,
     };
@@ -270,13 +272,10 @@ pub fn render(args: RenderArgs) -> Result<ExitCode> {
         eprintln!("warning: {w}");
     }
     write_outputs_with_preview(&out, &exr, preview.as_ref(), exposure, view)?;
-    if let Some((q, layer, title, scale)) = false_colour_map {
+    if let Some((q, layer, title, scale, fixed)) = false_colour_map {
         let img = &out.image;
         let values = img.channel(layer).with_context(|| format!("the image has no {layer} layer"))?;
-        let fc = match false_colour_range {
-            Some((min, max)) => FalseColour { min, max, scale, title: title.into() },
-            None => FalseColour::fit(values, scale, title),
-        };
+        let fc = fixed.unwrap_or_else(|| FalseColour::fit(values, scale, title));
         let path = exr.with_file_name(format!("{}.{q}.png", file_stem(&exr)));
         quasar::output::write_png_atomic(&path, &fc.image(values, img.width, img.height))?;
         if !quiet {

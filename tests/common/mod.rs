@@ -164,6 +164,18 @@ pub fn pt_ov(w: u32, h: u32, spp: u32, seed: u64) -> JobOverrides {
     }
 }
 
+/// Where the ray through image point `f` (pixels) meets the floor plane y = 0.
+pub fn floor_hit(camera: &quasar::core::camera::Camera, f: glam::Vec2) -> glam::Vec3 {
+    let r = camera.ray(f);
+    r.origin + r.dir * (-r.origin.y / r.dir.y)
+}
+
+/// Overrides for the `illuminance.Y` layer of a 12 x 12 image at `samples` per pixel centre
+/// (1 spp `pt`, the scenes' default seed 0, 2 threads).
+pub fn illuminance_layer_ov(samples: u32) -> JobOverrides {
+    JobOverrides { threads: Some(2), illuminance_samples: Some(samples), ..pt_ov(12, 12, 1, 0) }
+}
+
 /// Overrides for a bidirectional `method` render of `iterations` with `photons` per iteration.
 pub fn bidir_ov(w: u32, h: u32, method: &str, iterations: u32, photons: u64, seed: u64) -> JobOverrides {
     JobOverrides {
