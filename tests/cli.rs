@@ -343,6 +343,25 @@ fn bad_numbers_on_the_command_line_are_refused() {
     assert!(status.success(), "{stderr}");
 }
 
+/// Spectral bins outside the sampled range, too many or none, and a range without bins, are
+/// refused before anything is rendered, naming the accepted values.
+#[test]
+fn bad_spectral_bins_are_refused() {
+    let s = write_scene(GOOD, &[]);
+    let out = s.dir.path().join("out.exr");
+    for (args, code, needle) in [
+        (&["--spectral-bins", "4", "--spectral-range", "300:700"][..], 1, "inside the sampled range 360:830 nm"),
+        (&["--spectral-bins", "0"][..], 1, "give 1 to 940"),
+        (&["--spectral-bins", "4", "--spectral-range", "700:400"][..], 2, "MIN < MAX"),
+        (&["--spectral-range", "400:700"][..], 2, "--spectral-bins"),
+    ] {
+        let (status, stderr) = render_cli(&s.path, &out, args);
+        assert_eq!(status.code(), Some(code), "{args:?}: {stderr}");
+        assert!(stderr.contains(needle), "{args:?}: {stderr}");
+        assert!(!out.exists(), "{args:?} wrote an image");
+    }
+}
+
 /// An image larger than the machine's memory is refused before anything large is allocated, with
 /// the estimate and the memory available (issue 18: 16384 x 16384 aborted on a 32 GB
 /// allocation). 65536 x 4096 with `vismap` needs about 700 GiB, more than any CI machine has.

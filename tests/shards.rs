@@ -23,6 +23,8 @@ fn ov(method: &str, shard: Option<(u32, u32)>) -> JobOverrides {
         seed: Some(17),
         method: Some(method.into()),
         shard,
+        // the spectral channels merge and resume like every other mean channel
+        spectral_bins: Some(quasar::film::SpectralBins::new(8, 360.0, 830.0).unwrap()),
         ..Default::default()
     }
     .with_photons_if_read(method, 3000)
@@ -135,6 +137,9 @@ fn resume_equals_the_uninterrupted_render() {
         assert!(msg.contains("other render settings: seed 18 (the checkpoint has"), "{msg}");
         let diffs = msg.split("settings: ").nth(1).unwrap();
         assert!(!diffs.contains("method") && !diffs.contains("scene"), "{msg}");
+        let no_bins = JobOverrides { spectral_bins: None, resume: Some(cp.clone()), ..ov(method, None) };
+        let msg = format!("{:#}", quasar::render::job::render_desc(&desc, &no_bins, false).err().unwrap());
+        assert!(msg.contains("spectral_bins unset (the checkpoint has 8 x"), "{msg}");
     }
     std::fs::write(dir.path().join("bad.ckpt"), b"QSRCKPT1garbage").unwrap();
     let desc = quasar::render::job::load_scene(&scene()).unwrap();

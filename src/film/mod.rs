@@ -3,12 +3,15 @@
 
 mod blocks;
 mod layers;
+mod spectral;
 
 pub use blocks::{BLOCK_BASE, BlockBatches, BlockLevel, block_sizes};
 pub use layers::{LayeredRadiance, PathClass};
+pub use spectral::{MAX_SPECTRAL_BINS, SpectralBins, SpectralSums};
 
 use quasar_materials::spectrum::SampledWavelengths;
 use quasar_materials::spectrum::color::xyz_to_linear_srgb;
+use rayon::iter::Either;
 use rayon::prelude::*;
 
 /// The epsilon of relative errors, (a - r)^2 / (r^2 + REL_EPS): keeps black pixels from
@@ -176,6 +179,38 @@ pub struct Film {
     /// ([`add_batch`](Self::add_batch)): the bidirectional methods, whose pixels share photons
     /// and wavelengths within an iteration, so that per-pixel errors are correlated.
     pub blocks: Option<BlockBatches>,
+    /// Spectral radiance bins of the beauty (`--spectral-bins`), None when not asked for.
+    pub spectral: Option<SpectralSums>,
+}
+
+/// One row of a [`Film`], for a pass that fills the rows in parallel ([`Film::rows_mut`]).
+pub struct FilmRow<'a> {
+    pixels: &'a mut [PixelSum],
+    spectral: Option<(SpectralBins, &'a mut [f64])>,
+}
+
+impl FilmRow<'_> {
+    /// Pixels in the row.
+    pub fn width(&self) -> usize {
+        self.pixels.len()
+    }
+
+    /// Adds one sample to pixel `x` of the row: its layers ([`PixelSum::add`], whose per-quantity
+    /// luminance it returns) and, unless the sample was rejected as non-finite, the beauty's
+    /// spectral bins.
+    #[inline]
+    pub fn add(&mut self, x: usize, l: &LayeredRadiance, wl: &SampledWavelengths) -> [f64; N_QUANTITIES] {
+        let px = &mut self.pixels[x];
+        let rejected = px.rejected;
+        let y = px.add(l, wl);
+        if let Some((bins, sums)) = &mut self.spectral
+            && px.rejected == rejected
+        {
+            let n = bins.count();
+            bins.add(&mut sums[x * n..(x + 1) * n], l.emission + l.direct + l.indirect, wl);
+        }
+        y
+    }
 }
 
 /// A named float channel of an output image.
@@ -190,7 +225,35 @@ pub struct Channel {
 impl Film {
     /// An empty film.
     pub fn new(width: u32, height: u32) -> Self {
-        Self { width, height, pixels: vec![PixelSum::default(); width as usize * height as usize], blocks: None }
+        Self {
+            width,
+            height,
+            pixels: vec![PixelSum::default(); width as usize * height as usize],
+            blocks: None,
+            spectral: None,
+        }
+    }
+
+    /// This film with empty spectral bins `bins` (replacing any it had).
+    pub fn with_spectral(mut self, bins: SpectralBins) -> Self {
+        self.spectral = Some(SpectralSums::new(bins, self.pixels.len()));
+        self
+    }
+
+    /// The rows of the film, top first, each with its part of every sum.
+    pub fn rows_mut(&mut self) -> impl IndexedParallelIterator<Item = FilmRow<'_>> {
+        let w = (self.width as usize).max(1);
+        let rows = self.pixels.par_chunks_mut(w);
+        match &mut self.spectral {
+            Some(s) => {
+                let bins = s.bins;
+                Either::Left(
+                    rows.zip(s.sums.par_chunks_mut(w * bins.count()))
+                        .map(move |(pixels, sums)| FilmRow { pixels, spectral: Some((bins, sums)) }),
+                )
+            }
+            None => Either::Right(rows.map(|pixels| FilmRow { pixels, spectral: None })),
+        }
     }
 
     /// An empty film that keeps batch statistics of its block means (see [`BlockBatches`]).
@@ -201,8 +264,14 @@ impl Film {
     /// Adds one sample to every pixel (row-major `samples`, one per pixel: one iteration of a
     /// bidirectional method) and, with block statistics, the batch's block means.
     pub fn add_batch(&mut self, samples: &[(LayeredRadiance, SampledWavelengths)]) {
-        let y: Vec<[f64; N_QUANTITIES]> =
-            self.pixels.par_iter_mut().zip(samples.par_iter()).map(|(px, (l, wl))| px.add(l, wl)).collect();
+        let w = self.width as usize;
+        let y: Vec<[f64; N_QUANTITIES]> = self
+            .rows_mut()
+            .zip(samples.par_chunks(w.max(1)))
+            .flat_map_iter(|(mut row, s)| {
+                s.iter().enumerate().map(|(x, (l, wl))| row.add(x, l, wl)).collect::<Vec<_>>()
+            })
+            .collect();
         if let Some(b) = &mut self.blocks {
             b.add(&y);
         }
@@ -277,6 +346,9 @@ impl Film {
         });
         if let Some(b) = &self.blocks {
             out.extend(b.channels(self.width as usize, self.height as usize));
+        }
+        if let Some(s) = &self.spectral {
+            out.extend(s.channels(|p| self.pixels[p].samples));
         }
         out
     }

@@ -72,18 +72,17 @@ impl<E: PixelEstimator> RenderMethod for PerPixel<'_, E> {
         let (k, n) = self.shard;
         let this = &*self;
         let skipped: usize = film
-            .pixels
-            .par_chunks_mut(w)
+            .rows_mut()
             .enumerate()
-            .map(|(y, row)| {
+            .map(|(y, mut row)| {
                 // an interrupted pass leaves the remaining rows with fewer samples
                 if (control.stop)() {
                     return 1;
                 }
-                for (x, acc) in row.iter_mut().enumerate() {
+                for x in 0..row.width() {
                     for s in first..first + count {
                         let (l, wl) = this.sample(x as u32, y as u32, k + n * s);
-                        acc.add(&l, &wl);
+                        row.add(x, &l, &wl);
                     }
                 }
                 (control.progress)(w as u64 * count as u64);

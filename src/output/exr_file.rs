@@ -1,12 +1,14 @@
 //! Single-part, multi-layer float32 OpenEXR files with `layer.channel` names (docs/architecture.md §6),
-//! written atomically (temporary file in the same directory, then rename).
+//! written atomically (temporary file in the same directory, then rename). An image with
+//! spectral channels `S0.<lambda>nm` also gets the header attributes of the spectral layout
+//! (`spectralLayoutVersion`, `emissiveUnits`; [`SpectralBins::attributes`]).
 
 use std::path::{Path, PathBuf};
 
 use exr::meta::attribute::Chromaticities;
 use exr::prelude::*;
 
-use crate::film::Channel;
+use crate::film::{Channel, SpectralBins};
 
 /// An image as named float channels plus text metadata.
 #[derive(Clone, Debug, PartialEq)]
@@ -96,6 +98,12 @@ pub fn write_exr_atomic(img: &ExrImage, path: &Path) -> std::result::Result<(), 
     attrs.other.insert(Text::from("quasar"), AttributeValue::Text(Text::from(meta.as_str())));
     for (k, v) in &img.metadata {
         attrs.other.insert(Text::from(format!("quasar:{k}").as_str()), typed_attribute(v));
+    }
+    // an image with spectral channels is an emissive spectral image of Fichet et al. 2021
+    if img.channels.iter().any(|c| SpectralBins::is_channel(&c.name)) {
+        for (k, v) in SpectralBins::attributes() {
+            attrs.other.insert(Text::from(k), AttributeValue::Text(Text::from(v)));
+        }
     }
     let layer = Layer::new((img.width, img.height), attrs, Encoding::SMALL_LOSSLESS, AnyChannels::sort(channels));
     let mut image = Image::from_layer(layer);

@@ -17,9 +17,9 @@ use std::path::Path;
 
 use crate::core::bytes::{ByteReader, ByteWriter};
 use crate::core::sampling::mix64;
-use crate::film::{BlockBatches, Film, N_LAYERS, N_QUANTITIES, PixelSum};
+use crate::film::{BlockBatches, Film, N_LAYERS, N_QUANTITIES, PixelSum, SpectralBins};
 
-const MAGIC: &[u8; 8] = b"QSRCKPT4";
+const MAGIC: &[u8; 8] = b"QSRCKPT5";
 
 /// What a render has accumulated so far.
 #[derive(Clone, Debug, PartialEq)]
@@ -118,6 +118,16 @@ pub fn encode(key: &ResumeKey, state: &RenderState) -> Vec<u8> {
             }
         }
     }
+    match &state.film.spectral {
+        None => w.u32(0),
+        Some(s) => {
+            let (min, max) = s.bins.range_nm();
+            w.u32(s.bins.count() as u32);
+            w.f64(min as f64);
+            w.f64(max as f64);
+            s.sums.iter().for_each(|&v| w.f64(v));
+        }
+    }
     w.u64(state.method_state.len() as u64);
     w.bytes(&state.method_state);
     w.0
@@ -194,6 +204,20 @@ pub fn decode(bytes: &[u8], key: &ResumeKey) -> Result<RenderState, String> {
         }
         film.blocks = Some(blocks);
     }
+    let n_bins = r.u32()?;
+    if n_bins > 0 {
+        let (min, max) = (r.f64()? as f32, r.f64()? as f32);
+        let bins = SpectralBins::new(n_bins, min, max)?;
+        if n * n_bins as u64 > (r.remaining() / 8) as u64 {
+            return Err(format!("{n_bins} spectral bins per pixel do not fit the file size"));
+        }
+        film = film.with_spectral(bins);
+        if let Some(s) = film.spectral.as_mut() {
+            for v in s.sums.iter_mut() {
+                *v = r.f64()?;
+            }
+        }
+    }
     let len = r.u64()? as usize;
     let method_state = r.take(len)?.to_vec();
     if r.remaining() != 0 {
@@ -229,6 +253,21 @@ mod tests {
         assert!(e.contains("radius unset (the checkpoint has 0.5)"), "{e}");
         assert!(!e.contains("method"), "{e}");
         // truncated anywhere: an error, never a panic
+        for n in 0..bytes.len() {
+            assert!(decode(&bytes[..n], &k).is_err());
+        }
+    }
+
+    #[test]
+    fn spectral_bins_round_trip() {
+        let mut film = Film::new(2, 1).with_spectral(SpectralBins::new(3, 400.0, 700.0).unwrap());
+        if let Some(s) = film.spectral.as_mut() {
+            s.sums = vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0];
+        }
+        let state = RenderState { film, done: 1, method_state: vec![] };
+        let k = key(&[("spectral_bins", "3 over 400:700 nm")]);
+        let bytes = encode(&k, &state);
+        assert_eq!(decode(&bytes, &k).unwrap(), state);
         for n in 0..bytes.len() {
             assert!(decode(&bytes[..n], &k).is_err());
         }

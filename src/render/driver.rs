@@ -17,7 +17,7 @@ use rayon::prelude::*;
 use super::checkpoint::{self, RenderState};
 use crate::core::camera::Camera;
 use crate::core::scene::Scene;
-use crate::film::{Channel, Film};
+use crate::film::{Channel, Film, SpectralBins};
 use crate::integrator::pass::{PassControl, PassEnd, RenderMethod};
 
 /// Seconds between two checkpoint writes (one is always written when the render completes).
@@ -41,6 +41,8 @@ pub struct DriverOptions {
     pub resume: Option<RenderState>,
     /// Write checkpoints here, with this resume key (`--checkpoint`).
     pub checkpoint: Option<(PathBuf, checkpoint::ResumeKey)>,
+    /// Accumulate the beauty's spectral radiance in these bins (`--spectral-bins`).
+    pub spectral: Option<SpectralBins>,
 }
 
 /// What a render produced.
@@ -94,7 +96,10 @@ fn run_in_pool(
             method.restore_state(&st.method_state)?;
             (st.film.clone(), st.done)
         }
-        None => (method.new_film(w, h), 0),
+        None => {
+            let film = method.new_film(w, h);
+            (if let Some(bins) = opts.spectral { film.with_spectral(bins) } else { film }, 0)
+        }
     };
     let total = opts.units.max(1);
     let pixels = w as u64 * h as u64;
@@ -259,6 +264,7 @@ mod tests {
             progress: false,
             resume: None,
             checkpoint: None,
+            spectral: None,
         }
     }
 

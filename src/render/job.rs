@@ -10,7 +10,7 @@ use quasar_importers::{ImportOptions, SceneDesc, import_scene};
 use super::driver::{self, DriverOptions, RenderResult};
 use crate::core::camera::Camera;
 use crate::core::scene::Scene;
-use crate::film::Channel;
+use crate::film::{Channel, SpectralBins};
 use crate::integrator::method::{Build, Built, MethodChoice, all_params, instantiate};
 use crate::integrator::params::MethodParams;
 use crate::output::preview::{Exposure, View, exposure_scale};
@@ -55,6 +55,8 @@ pub struct JobOverrides {
     pub masking: Option<quasar_materials::Masking>,
     /// Samples per pixel of the `illuminance.Y` layer (0: none), over the scene's setting.
     pub illuminance_samples: Option<u32>,
+    /// Write the beauty's spectral radiance in these bins as `S0.<lambda>nm` channels.
+    pub spectral_bins: Option<SpectralBins>,
 }
 
 impl JobOverrides {
@@ -126,9 +128,10 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     scene.masking = ov.masking.unwrap_or(r.masking);
     let camera = Camera::new(&desc.camera, width, height).with_context(|| desc.source.display().to_string())?;
     let entry = choice.resolve(&scene);
+    let spectral_bytes = ov.spectral_bins.map_or(0, |b| 8 * b.count() as u64);
     crate::render::memory::check_memory(
         entry.name,
-        entry.bytes_per_pixel,
+        entry.bytes_per_pixel + spectral_bytes,
         (width, height),
         crate::render::memory::available_memory(),
     )
@@ -154,6 +157,9 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
             ("shard".into(), format!("{}/{}", shard.0, shard.1)),
             ("masking".into(), scene.masking.name().to_string()),
         ];
+        if let Some(b) = ov.spectral_bins {
+            key.push(("spectral_bins".into(), spectral_description(&b)));
+        }
         key.extend(budgetless.entries());
         crate::render::checkpoint::ResumeKey(key)
     } else {
@@ -178,6 +184,7 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         progress,
         resume,
         checkpoint: ov.checkpoint.clone().map(|p| (p, resume_key)),
+        spectral: ov.spectral_bins,
     };
     // the scene's content without the places it was read from (a render of the same scene from
     // another directory has the same one), so that `quasar merge` can refuse unrelated renders
@@ -268,9 +275,22 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     if unit_name == "iterations" {
         header.push(("iterations".into(), result.spp.to_string()));
     }
+    if let Some(b) = ov.spectral_bins {
+        header.push(("spectral_bins".into(), spectral_description(&b)));
+        header.push((
+            "spectral_units".into(),
+            "S0.*: mean spectral radiance of the beauty over each bin, in the scene's radiance units per nm (W m^-2 sr^-1 nm^-1 when its lights are absolute), named after the bin centre".into(),
+        ));
+    }
     header.extend(result.header.iter().cloned());
     let image = ExrImage { width: width as usize, height: height as usize, channels, metadata: header };
     Ok(JobOutput { image, result })
+}
+
+/// The bins as the header and the resume key state them: `N x D nm over MIN:MAX nm`.
+fn spectral_description(b: &SpectralBins) -> String {
+    let (min, max) = b.range_nm();
+    format!("{} x {} nm over {min}:{max} nm", b.count(), b.width_nm())
 }
 
 /// Writes the EXR (atomically) and an optional PNG preview with automatic exposure and the

@@ -7,8 +7,9 @@ use crate::film::Channel;
 use crate::output::ExrImage;
 
 /// Header keys that must agree between the merged images (they change what a sample means).
-const MUST_AGREE: [&str; 10] = [
+const MUST_AGREE: [&str; 11] = [
     "scene_fingerprint",
+    "spectral_bins",
     "method",
     "width",
     "height",
