@@ -188,6 +188,46 @@ samples = 1024
     check("horizontal", r[1].lux[0], r[1].stderr[0].max(1e-9), i * cos / d2);
 }
 
+/// Semi-cylindrical illuminance under a point light of intensity I: E_sc = I sin(theta)
+/// (1 + cos(phi)) / (pi d^2), phi the horizontal angle between the light and the way the
+/// half-cylinder faces: facing the light (phi = 0) twice the cylindrical value, side-on (90
+/// degrees) equal to it, facing away exactly 0.
+#[test]
+fn semi_cylindrical_illuminance_of_a_point_light() {
+    let meter = |name: &str, facing: &str| {
+        format!(
+            "[[sensor]]\nname = \"{name}\"\ntype = \"point\"\nposition = [1.5, 0, 0]\nquantity = \"semi-cylindrical\"\nfacing = {facing}\nsamples = 262144\n"
+        )
+    };
+    let toml = format!(
+        r#"
+[camera]
+position = [0, 0.5, 3]
+target = [0, 0.5, 0]
+[[light]]
+type = "point"
+position = [0, 2, 0]
+spectrum = {{ rgb = [1, 1, 1] }}
+scale = 0.01
+{}{}{}"#,
+        meter("towards", "[-1, 0.3, 0]"),
+        meter("side", "[0, 0, 1]"),
+        meter("away", "[1, 0, 0]")
+    );
+    let r = measure(&toml, &[]);
+    let i = 0.01 * f64::from(LUMINANCE_PER_Y); // cd
+    let (sin, d2) = (0.6, 6.25);
+    let e = |cos_phi: f64| i * sin * (1.0 + cos_phi) / (std::f64::consts::PI * d2);
+    check("semi-cylindrical towards the light", r[0].lux[0], r[0].stderr[0], e(1.0));
+    check("semi-cylindrical side-on", r[1].lux[0], r[1].stderr[0], e(0.0));
+    assert_eq!(r[2].lux[0], 0.0, "facing away from the light");
+    assert!(
+        r[0].csv().contains("semi-cylindrical illuminance (lx, vertical axis +Y, facing (-1, 0, 0))"),
+        "{}",
+        r[0].csv()
+    );
+}
+
 /// `--false-colour luminance` writes `<image>.luminance.png` whose map pixels are the ramp
 /// colours of the EXR's luminance.Y values on the stated range, beside its legend; a sensor grid
 /// gets `<image>.<sensor>.png`; asking for illuminance without its layer is refused up front.

@@ -27,7 +27,7 @@ pub enum SensorLayout {
 }
 
 /// What each meter measures.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub enum SensorQuantity {
     /// Illuminance on a plane of the sensor's normal (horizontal or vertical illuminance).
     #[default]
@@ -35,6 +35,25 @@ pub enum SensorQuantity {
     /// Cylindrical illuminance: the mean vertical illuminance over all horizontal directions,
     /// E_z = (1/pi) integral of L sin(theta) over the sphere (theta from the vertical).
     Cylindrical,
+    /// Semi-cylindrical illuminance (EN 13201-2, CIE 136: the facial-recognition criterion of
+    /// pedestrian areas): the mean illuminance on the curved surface of a vertical half-cylinder
+    /// whose middle faces `facing`, E_sc = (1/pi) integral of L sin(theta) (1 + cos(phi)) over the
+    /// sphere, phi the horizontal angle between the incident direction and `facing`.
+    SemiCylindrical {
+        /// Unit horizontal direction the half-cylinder faces.
+        facing: Vec3,
+    },
+}
+
+impl SensorQuantity {
+    /// The quantity's name in lighting practice, for CSV headers and map titles.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Planar => "illuminance",
+            Self::Cylindrical => "cylindrical illuminance",
+            Self::SemiCylindrical { .. } => "semi-cylindrical illuminance",
+        }
+    }
 }
 
 /// One `[[sensor]]`.
@@ -48,7 +67,7 @@ pub struct SensorDesc {
     pub normal: Vec3,
     /// Samples per meter.
     pub samples: u32,
-    /// Planar or cylindrical illuminance.
+    /// Planar, cylindrical or semi-cylindrical illuminance.
     pub quantity: SensorQuantity,
 }
 

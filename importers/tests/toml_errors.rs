@@ -377,3 +377,17 @@ fn deeply_nested_values_are_an_error_not_a_stack_overflow() {
     let e = err(&deep, &[]);
     assert!(e.contains("scene.toml:"), "{e}");
 }
+
+/// `[[sensor]]`: a semi-cylindrical meter needs a horizontal `facing`, and only it takes one.
+#[test]
+fn semi_cylindrical_sensors_need_a_horizontal_facing() {
+    let meter = "[[sensor]]\nname = \"m\"\ntype = \"point\"\nposition = [0, 0, 0]\n";
+    let (t, e) = bad_extra(&format!("{meter}quantity = \"semi-cylindrical\"\n"), &[]);
+    assert_at(&e, "scene.toml", line_of(&t, "[[sensor]]"), &["`facing`"]);
+    let (t, e) = bad_extra(&format!("{meter}quantity = \"semi-cylindrical\"\nfacing = [0, 1, 0]\n"), &[]);
+    assert_at(&e, "scene.toml", line_of(&t, "facing ="), &["`facing` is vertical"]);
+    let (t, e) = bad_extra(&format!("{meter}facing = [1, 0, 0]\n"), &[]);
+    assert_at(&e, "scene.toml", line_of(&t, "facing ="), &["`facing` is for quantity = \"semi-cylindrical\""]);
+    let (t, e) = bad_extra(&format!("{meter}quantity = \"semicylindrical\"\n"), &[]);
+    assert_at(&e, "scene.toml", line_of(&t, "quantity ="), &["semi-cylindrical"]);
+}

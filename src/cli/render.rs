@@ -359,11 +359,7 @@ fn write_sensors(
             // rows of the CSV run along the second side from its start; the map puts that start at the bottom
             let values: Vec<f32> =
                 (0..ny).rev().flat_map(|j| reading.lux[j * nx..(j + 1) * nx].iter().map(|&v| v as f32)).collect();
-            let what = match reading.quantity {
-                quasar_importers::SensorQuantity::Planar => "illuminance",
-                quasar_importers::SensorQuantity::Cylindrical => "cylindrical illuminance",
-            };
-            let fc = FalseColour::fit(&values, scale, &format!("{}: {what} (lx)", sensor.name));
+            let fc = FalseColour::fit(&values, scale, &format!("{}: {} (lx)", sensor.name, reading.quantity.name()));
             let png = exr.with_file_name(format!("{}.{}.png", file_stem(exr), sensor.name));
             quasar::output::write_png_atomic(&png, &fc.image(&values, nx, ny))?;
             if !quiet {

@@ -66,6 +66,12 @@ pub fn measure(scene: &Scene, sensor: &SensorDesc, seed: u64) -> SensorReading {
                             let phi = 2.0 * std::f32::consts::PI * sampler.get_1d();
                             Vec3::new(phi.cos(), 0.0, phi.sin())
                         }
+                        // the mean over the half-cylinder's normals, cos(psi) facing + sin(psi)
+                        // side with psi uniform in [-pi/2, pi/2], of the vertical illuminance
+                        SensorQuantity::SemiCylindrical { facing } => {
+                            let psi = std::f32::consts::PI * (sampler.get_1d() - 0.5);
+                            psi.cos() * facing + psi.sin() * Vec3::Y.cross(facing)
+                        }
                     }
                 });
                 sum += v;
@@ -122,6 +128,9 @@ impl SensorReading {
         let what = match self.quantity {
             SensorQuantity::Planar => format!("illuminance (lx) on meters with normal ({}, {}, {})", n.x, n.y, n.z),
             SensorQuantity::Cylindrical => "cylindrical illuminance (lx, vertical axis +Y)".to_string(),
+            SensorQuantity::SemiCylindrical { facing: f } => {
+                format!("semi-cylindrical illuminance (lx, vertical axis +Y, facing ({}, {}, {}))", f.x, f.y, f.z)
+            }
         };
         let mut out = format!("# quasar sensor {}: {what}, {} samples each\n", self.name, self.samples);
         out += &format!(

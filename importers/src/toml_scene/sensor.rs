@@ -10,7 +10,8 @@
 //! | `normal` | the meters' normal: [0, 1, 0] horizontal illuminance, a horizontal vector vertical illuminance | [0, 1, 0] |
 //! | `u_axis` | a grid's first side (projected onto its plane) | +X, or +Z for a normal along X |
 //! | `samples` | samples per meter | 1024 |
-//! | `quantity` | `"planar"` (on the plane of `normal`) or `"cylindrical"` (mean vertical illuminance over all horizontal directions; `normal` is then the grid's plane only) | `"planar"` |
+//! | `quantity` | `"planar"` (on the plane of `normal`), `"cylindrical"` (mean vertical illuminance over all horizontal directions) or `"semi-cylindrical"` (mean illuminance on a vertical half-cylinder facing `facing`); for the last two `normal` is the grid's plane only | `"planar"` |
+//! | `facing` | the direction a semi-cylindrical meter faces (projected onto the horizontal plane; typically towards the observer's approach) | required for `"semi-cylindrical"` only |
 
 use glam::Vec3;
 
@@ -24,7 +25,18 @@ pub const MAX_SENSOR_POINTS: u64 = 1 << 20;
 /// Reads one `[[sensor]]` table; lengths in scene units converted with `unit`.
 pub(super) fn sensor(t: &Tbl<'_>, unit: f32) -> Result<SensorDesc, ImportError> {
     let doc = t.doc;
-    t.check_keys(&["name", "type", "position", "size", "resolution", "normal", "u_axis", "samples", "quantity"])?;
+    t.check_keys(&[
+        "name",
+        "type",
+        "position",
+        "size",
+        "resolution",
+        "normal",
+        "u_axis",
+        "samples",
+        "quantity",
+        "facing",
+    ])?;
     let name = match t.get("name") {
         Some(v) => crate::toml_reader::string(doc, v, &t.key_path("name"))?.to_owned(),
         None => return Err(t.missing("name")),
@@ -38,10 +50,28 @@ pub(super) fn sensor(t: &Tbl<'_>, unit: f32) -> Result<SensorDesc, ImportError> 
     let position = t.opt_point("position", unit)?.ok_or_else(|| t.missing("position"))?;
     let normal = t.opt_dir("normal")?.unwrap_or(Vec3::Y).normalize();
     let samples = t.opt_int("samples", 1, 1 << 24)?.unwrap_or(1024) as u32;
-    let quantity = match t.choice("quantity", &["planar", "cylindrical"])? {
+    let quantity = match t.choice("quantity", &["planar", "cylindrical", "semi-cylindrical"])? {
         Some(("cylindrical", _)) => SensorQuantity::Cylindrical,
+        Some(("semi-cylindrical", _)) => {
+            let f = t.opt_dir("facing")?.ok_or_else(|| t.missing("facing"))?;
+            let facing = Vec3::new(f.x, 0.0, f.z).normalize_or_zero();
+            if facing == Vec3::ZERO {
+                return Err(doc.invalid(
+                    &t.key_span("facing"),
+                    format!(
+                        "`{}`: `facing` is vertical: a semi-cylindrical meter faces a horizontal direction",
+                        t.path
+                    ),
+                ));
+            }
+            SensorQuantity::SemiCylindrical { facing }
+        }
         _ => SensorQuantity::Planar,
     };
+    if t.has("facing") && !matches!(quantity, SensorQuantity::SemiCylindrical { .. }) {
+        return Err(doc
+            .invalid(&t.key_span("facing"), format!("`{}`: `facing` is for quantity = \"semi-cylindrical\"", t.path)));
+    }
     let layout = if ty == "point" {
         for k in ["size", "resolution", "u_axis"] {
             if t.has(k) {
