@@ -19,8 +19,11 @@ use crate::output::{ExrImage, write_exr_atomic, write_preview_png};
 /// The channel of the photometric luminance in cd/m^2 (`LUMINANCE_PER_Y` x `XYZ.Y`).
 pub const LUMINANCE_CD: &str = "luminance.Y";
 
-/// The channel of the illuminance in lux at the first surface each pixel-centre ray hits.
+/// The channel of the illuminance in lux at the first surface the pixel's camera rays hit.
 pub const ILLUMINANCE_LX: &str = "illuminance.Y";
+
+/// The channel of the standard error (lx) of [`ILLUMINANCE_LX`].
+pub const ILLUMINANCE_STDERR_LX: &str = "illuminance_stderr.Y";
 
 /// Settings that override the scene file's `[render]` table (None = keep the scene's).
 #[derive(Clone, Debug, Default)]
@@ -241,9 +244,13 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     });
     channels.extend(luminance);
     let illuminance_samples = ov.illuminance_samples.unwrap_or(r.illuminance_samples);
+    let mut illuminance_taken = None;
     if illuminance_samples > 0 {
-        let values = crate::render::sensors::illuminance_pass(&scene, &camera, illuminance_samples, seed);
+        let (values, stderr, taken) =
+            crate::render::sensors::illuminance_pass(&scene, &camera, illuminance_samples, seed, shard);
         channels.push(Channel { name: ILLUMINANCE_LX.into(), values });
+        channels.push(Channel { name: ILLUMINANCE_STDERR_LX.into(), values: stderr });
+        illuminance_taken = Some(taken);
     }
     channels.push(Channel { name: "depth.Z".into(), values: result.depth.clone() });
     channels.extend(result.extra.iter().cloned());
@@ -274,6 +281,9 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     ];
     if unit_name == "iterations" {
         header.push(("iterations".into(), result.spp.to_string()));
+    }
+    if let Some(n) = illuminance_taken {
+        header.push(("illuminance_samples".into(), n.to_string()));
     }
     if let Some(b) = ov.spectral_bins {
         header.push(("spectral_bins".into(), spectral_description(&b)));

@@ -160,30 +160,45 @@ impl SensorReading {
     }
 }
 
-/// The `illuminance.Y` layer: the illuminance (lx) at the first surface each pixel-centre ray of
-/// `camera` hits, on the side facing the camera (the geometric normal turned towards the eye), by
-/// `samples` samples of the sensor estimator; 0 where the ray hits nothing. Like `depth.Z` it
-/// is not antialiased. A meter there sees the light the surface receives, the surface itself
-/// being no obstacle to the half-space above it.
-pub fn illuminance_pass(scene: &Scene, camera: &crate::core::camera::Camera, samples: u32, seed: u64) -> Vec<f32> {
+/// The `illuminance.Y` layer and its standard errors: the illuminance (lx) at the first surface
+/// each camera ray hits, on the side facing the camera (the geometric normal turned towards the
+/// eye), averaged over `samples` rays jittered over the pixel as the beauty's are (0 for a ray
+/// that hits nothing), one sample of the sensor estimator each; and the standard error of that
+/// mean, sqrt(s^2 / n) from the samples' variance (position within the pixel and light
+/// sampling). A meter there sees the light the surface receives, the surface itself being no
+/// obstacle to the half-space above it. Render share `shard` = (K, N) takes the global samples
+/// K + N j below `samples` (as the per-pixel methods do), so that `quasar merge` of the shards
+/// pools them into the full layer; the count it took is returned with the channels.
+pub fn illuminance_pass(
+    scene: &Scene,
+    camera: &crate::core::camera::Camera,
+    samples: u32,
+    seed: u64,
+    shard: (u32, u32),
+) -> (Vec<f32>, Vec<f32>, u32) {
     let (w, h) = (camera.width() as usize, camera.height() as usize);
-    (0..w * h)
+    let (k, shards) = (shard.0, shard.1.max(1));
+    let n = samples.saturating_sub(k).div_ceil(shards);
+    let (mean, stderr) = (0..w * h)
         .into_par_iter()
         .map(|i| {
-            let ray = camera.ray(glam::Vec2::new((i % w) as f32 + 0.5, (i / w) as f32 + 0.5));
-            let Some(si) = scene.intersect(&ray) else { return 0.0 };
-            let n = if si.ng.dot(ray.dir) > 0.0 { -si.ng } else { si.ng };
-            let mut sum = 0.0f64;
-            for s in 0..samples {
-                sum += lux_sample(
-                    scene,
-                    si.p,
-                    Some(si.p_err),
-                    Sampler::new(seed ^ 0x111u64, i as u64, u64::from(s)),
-                    |_| n,
-                );
+            let (mut sum, mut sum2) = (0.0f64, 0.0f64);
+            for j in 0..n {
+                let s = k + shards * j;
+                let mut sampler = Sampler::new(seed ^ 0x111u64, i as u64, u64::from(s));
+                let jitter = sampler.get_2d();
+                let ray = camera.ray(glam::Vec2::new((i % w) as f32, (i / w) as f32) + jitter);
+                let Some(si) = scene.intersect(&ray) else { continue };
+                let normal = if si.ng.dot(ray.dir) > 0.0 { -si.ng } else { si.ng };
+                let v = lux_sample(scene, si.p, Some(si.p_err), sampler, |_| normal);
+                sum += v;
+                sum2 += v * v;
             }
-            (sum / f64::from(samples.max(1))) as f32
+            let nf = f64::from(n.max(1));
+            let mean = sum / nf;
+            let var = if n > 1 { ((sum2 - sum * mean) / (nf - 1.0)).max(0.0) } else { 0.0 };
+            (mean as f32, (var / nf).sqrt() as f32)
         })
-        .collect()
+        .unzip();
+    (mean, stderr, n)
 }

@@ -1,10 +1,13 @@
 //! `quasar merge`: combines independent renders of one scene (shards of a render, or renders with
 //! different seeds) into one image, exactly as if their samples had been accumulated together:
 //! every mean channel is the per-pixel average weighted by the sample (iteration) counts of
-//! `spp.Y`, `spp.Y` is their sum, and `stderr.Y` is recomputed from the pooled sums of squares.
+//! `spp.Y`, `spp.Y` is their sum, and `stderr.Y` is recomputed from the pooled sums of squares;
+//! the `illuminance.Y` layer and its `illuminance_stderr.Y` are pooled the same way over the
+//! `illuminance_samples` of each image.
 
 use crate::film::Channel;
 use crate::output::ExrImage;
+use crate::render::job::{ILLUMINANCE_LX, ILLUMINANCE_STDERR_LX};
 
 /// Header keys that must agree between the merged images (they change what a sample means).
 const MUST_AGREE: [&str; 11] = [
@@ -66,7 +69,7 @@ fn check_streams(images: &[ExrImage]) -> Result<Vec<(String, u32, u32)>, String>
 }
 
 /// Header keys summed over the inputs.
-const SUMMED: [&str; 4] = ["spp", "iterations", "photons", "render_time_s"];
+const SUMMED: [&str; 5] = ["spp", "iterations", "photons", "render_time_s", "illuminance_samples"];
 
 /// Merges `images` (at least one). Errors name the first disagreement.
 pub fn merge(images: &[ExrImage]) -> Result<ExrImage, String> {
@@ -113,28 +116,19 @@ pub fn merge(images: &[ExrImage]) -> Result<ExrImage, String> {
             .collect()
     };
     let mean_y = weighted("XYZ.Y");
+    let spp_of = |k: usize, p: usize| counts[k][p] as f64;
+    // the illuminance layer's samples: the same count at every pixel of an image
+    let illuminance_n: Vec<f64> =
+        images.iter().map(|img| img.meta("illuminance_samples").and_then(|v| v.parse().ok()).unwrap_or(0.0)).collect();
+    let illuminance_of = |k: usize, _p: usize| illuminance_n[k];
     let mut channels = Vec::new();
     for c in &first.channels {
         let values: Vec<f32> = match c.name.as_str() {
             "spp.Y" => total.iter().map(|&t| t as f32).collect(),
             "depth.Z" => c.values.clone(),
-            "stderr.Y" => (0..n_px)
-                .map(|p| {
-                    // per image: sum y^2 = (n - 1) n se^2 + n m^2
-                    let mut sq = 0.0f64;
-                    for (img, n) in images.iter().zip(&counts) {
-                        let (n, m) = (n[p] as f64, img.channel("XYZ.Y").unwrap_or_default()[p] as f64);
-                        let se = img.channel("stderr.Y").unwrap_or_default()[p] as f64;
-                        sq += (n - 1.0).max(0.0) * n * se * se + n * m * m;
-                    }
-                    let nt = total[p];
-                    if nt < 2.0 {
-                        return 0.0;
-                    }
-                    let var = ((sq - nt * mean_y[p] * mean_y[p]) / (nt - 1.0)).max(0.0);
-                    (var / nt).sqrt() as f32
-                })
-                .collect(),
+            "stderr.Y" => pooled_stderr(images, &spp_of, "XYZ.Y", "stderr.Y"),
+            ILLUMINANCE_LX => pooled_mean(images, &illuminance_of, ILLUMINANCE_LX),
+            ILLUMINANCE_STDERR_LX => pooled_stderr(images, &illuminance_of, ILLUMINANCE_LX, ILLUMINANCE_STDERR_LX),
             "XYZ.Y" => mean_y.iter().map(|&v| v as f32).collect(),
             name => match name.strip_prefix("stderr.block").and_then(|s| s.parse::<usize>().ok()) {
                 Some(size) if size > 0 => pooled_block_stderr(images, &counts, name, size),
@@ -159,6 +153,46 @@ pub fn merge(images: &[ExrImage]) -> Result<ExrImage, String> {
     metadata.push(("streams".into(), list.join(",")));
     metadata.push(("merged_from".into(), images.len().to_string()));
     Ok(ExrImage { width: first.width, height: first.height, channels, metadata })
+}
+
+/// Per pixel, the mean of channel `mean` over all the images' samples, `count(k, p)` of them in
+/// image k at pixel p.
+fn pooled_mean(images: &[ExrImage], count: &dyn Fn(usize, usize) -> f64, mean: &str) -> Vec<f32> {
+    let n_px = images[0].width * images[0].height;
+    (0..n_px)
+        .map(|p| {
+            let (mut n, mut sum) = (0.0f64, 0.0f64);
+            for (k, img) in images.iter().enumerate() {
+                n += count(k, p);
+                sum += count(k, p) * img.channel(mean).unwrap_or_default()[p] as f64;
+            }
+            if n > 0.0 { (sum / n) as f32 } else { 0.0 }
+        })
+        .collect()
+}
+
+/// Per pixel, the standard error of the mean of all the images' samples, from each image's
+/// mean m, standard error se and sample count n (channels `mean`, `stderr`; `count(k, p)`): the
+/// pooled sums sum y = n m and sum y^2 = (n - 1) n se^2 + n m^2.
+fn pooled_stderr(images: &[ExrImage], count: &dyn Fn(usize, usize) -> f64, mean: &str, stderr: &str) -> Vec<f32> {
+    let n_px = images[0].width * images[0].height;
+    (0..n_px)
+        .map(|p| {
+            let (mut nt, mut sum, mut sq) = (0.0f64, 0.0f64, 0.0f64);
+            for (k, img) in images.iter().enumerate() {
+                let (n, m) = (count(k, p), img.channel(mean).unwrap_or_default()[p] as f64);
+                let se = img.channel(stderr).unwrap_or_default()[p] as f64;
+                nt += n;
+                sum += n * m;
+                sq += (n - 1.0).max(0.0) * n * se * se + n * m * m;
+            }
+            if nt < 2.0 {
+                return 0.0;
+            }
+            let m = sum / nt;
+            (((sq - nt * m * m) / (nt - 1.0)).max(0.0) / nt).sqrt() as f32
+        })
+        .collect()
 }
 
 /// The `stderr.block<size>` channel `name` of the merged image: per block, the batch

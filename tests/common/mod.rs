@@ -170,8 +170,41 @@ pub fn floor_hit(camera: &quasar::core::camera::Camera, f: glam::Vec2) -> glam::
     r.origin + r.dir * (-r.origin.y / r.dir.y)
 }
 
-/// Overrides for the `illuminance.Y` layer of a 12 x 12 image at `samples` per pixel centre
-/// (1 spp `pt`, the scenes' default seed 0, 2 threads).
+/// The mean of `f` (a function of the image point, in pixels) over pixel (`px`, `py`) by a
+/// `k` x `k` midpoint rule: the expected value of a pixel whose samples are jittered over it.
+pub fn pixel_mean(px: u32, py: u32, k: u32, f: impl Fn(glam::Vec2) -> f64) -> f64 {
+    let mut sum = 0.0;
+    for a in 0..k {
+        for b in 0..k {
+            sum += f(glam::Vec2::new(px as f32 + (a as f32 + 0.5) / k as f32, py as f32 + (b as f32 + 0.5) / k as f32));
+        }
+    }
+    sum / f64::from(k * k)
+}
+
+/// Checks an image of estimates `got` with standard errors `sigma` against the expected pixel
+/// values `want`: every pixel within 4.5 standard errors, the image mean within 4 of its
+/// standard error, and the same test must reject `want` scaled by `1 + bias` (so it can see a
+/// bias of that size). Returns the worst pixel |z|, the image mean ratio and its z.
+pub fn assert_z_image(label: &str, got: &[f64], sigma: &[f64], want: &[f64], bias: f64) -> (f64, f64, f64) {
+    let mut worst = 0.0f64;
+    for (i, ((g, s), w)) in got.iter().zip(sigma).zip(want).enumerate() {
+        let z = (g - w) / s;
+        worst = worst.max(z.abs());
+        assert!(z.abs() < 4.5, "{label}: pixel {i}: {g:.5} +- {s:.5}, expected {w:.5} (z {z:.2})");
+    }
+    let (sum_got, sum_want): (f64, f64) = (got.iter().sum(), want.iter().sum());
+    let se = sigma.iter().map(|s| s * s).sum::<f64>().sqrt();
+    let z = (sum_got - sum_want) / se;
+    let z_biased = (sum_got - (1.0 + bias) * sum_want) / se;
+    eprintln!("{label}: worst pixel |z| {worst:.2}; image mean ratio {:.5} (z {z:.2})", sum_got / sum_want);
+    assert!(z.abs() < 4.0, "{label}: the image mean is off: ratio {} (z {z:.2})", sum_got / sum_want);
+    assert!(z_biased.abs() > 4.0, "{label}: a {bias} error would pass (z {z_biased:.2})");
+    (worst, sum_got / sum_want, z)
+}
+
+/// Overrides for the `illuminance.Y` layer of a 12 x 12 image at `samples` per pixel (1 spp
+/// `pt`, the scenes' default seed 0, 2 threads).
 pub fn illuminance_layer_ov(samples: u32) -> JobOverrides {
     JobOverrides { threads: Some(2), illuminance_samples: Some(samples), ..pt_ov(12, 12, 1, 0) }
 }
