@@ -228,6 +228,44 @@ scale = 0.01
     );
 }
 
+/// An IES file of a cosine distribution I(gamma) = I0 cos(gamma) below the horizon (1 degree
+/// steps, so the interpolation is exact to 4e-5), absolute photometry in cd.
+fn cosine_ies(i0: f64) -> String {
+    let g: Vec<String> = (0..=90).map(|d| d.to_string()).collect();
+    let c: Vec<String> = (0..=90).map(|d| format!("{:.6}", i0 * f64::from(d).to_radians().cos())).collect();
+    format!(
+        "IESNA:LM-63-2002\n[TEST] cosine\nTILT=NONE\n1 -1 1 91 1 1 2 0 0 0\n1 1 10\n{}\n0\n{}\n",
+        g.join(" "),
+        c.join(" ")
+    )
+}
+
+/// A luminaire with a luminous opening (near field): a cosine distribution I0 cos(gamma) spread
+/// over an opening of area A has the constant radiance I0 / A, so it is a Lambertian area light:
+/// under a 1.2 m square at 2 m, the corner forms of that luminance at the centre and under the
+/// corner (10% below the point luminaire's I0 / h^2 at the centre, which the test also checks);
+/// under a disk of radius R on its axis, E = I0 / (h^2 + R^2).
+#[test]
+fn near_field_luminaires_are_their_luminous_openings() {
+    let i0 = 1000.0;
+    let lamp = |opening: &str| {
+        format!("[[light]]\ntype = \"luminaire\"\nfile = \"cos.ies\"\nposition = [0, 2, 0]\n{opening}\n")
+    };
+    let meters = "[[sensor]]\nname = \"centre\"\ntype = \"point\"\nposition = [0, 0, 0]\nsamples = 16384\n[[sensor]]\nname = \"corner\"\ntype = \"point\"\nposition = [0.6, 0, 0.6]\nsamples = 16384\n";
+    let camera = "[camera]\nposition = [0, 0.5, 3]\ntarget = [0, 0.5, 0]\n";
+    let files = [("cos.ies", cosine_ies(i0))];
+    let files: Vec<(&str, &str)> = files.iter().map(|(n, t)| (*n, t.as_str())).collect();
+    let square = measure(&format!("{camera}{}{meters}", lamp("opening = { size = [1.2, 1.2] }")), &files);
+    let l = i0 / 1.44;
+    check("square opening, centre", square[0].lux[0], square[0].stderr[0], l * 4.0 * corner(0.6, 0.6, 2.0));
+    check("square opening, corner", square[1].lux[0], square[1].stderr[0], l * corner(1.2, 1.2, 2.0));
+    assert!(square[0].lux[0] < 0.92 * i0 / 4.0, "the opening is not a point: {} lx", square[0].lux[0]);
+    let disk = measure(&format!("{camera}{}{meters}", lamp("opening = { diameter = 1.2 }")), &files);
+    check("disk opening, axis", disk[0].lux[0], disk[0].stderr[0], i0 / (4.0 + 0.36));
+    let point = measure(&format!("{camera}{}{meters}", lamp("")), &files);
+    check("point luminaire, centre", point[0].lux[0], point[0].stderr[0].max(1e-9), i0 / 4.0);
+}
+
 /// `--false-colour luminance` writes `<image>.luminance.png` whose map pixels are the ramp
 /// colours of the EXR's luminance.Y values on the stated range, beside its legend; a sensor grid
 /// gets `<image>.<sensor>.png`; asking for illuminance without its layer is refused up front.

@@ -128,6 +128,8 @@ pub enum LightDesc {
         /// W/(sr nm) per candela of the unit spectrum: [`crate::photometric::photometric_scale`]
         /// of 1 cd times the user's and the tilt's factors.
         scale: f32,
+        /// Where the light leaves: a point (far field) or a luminous opening (near field).
+        opening: LuminousOpening,
     },
     /// Environment at infinity: radiance L(lambda) = scale * spectrum from every direction, or
     /// with a lat-long `map`, scale times the light colour of the map's texel in each direction.
@@ -139,6 +141,30 @@ pub enum LightDesc {
         scale: f32,
         /// A lat-long radiance map (`file = "sky.exr"`).
         map: Option<std::sync::Arc<EnvMapDesc>>,
+    },
+}
+
+/// Where a luminaire's light leaves it (docs/photometry.md, "Near field"): the photometric centre
+/// (the far-field model of the file), or a flat luminous opening in the luminaire's C0/C90 plane
+/// centred on it, from every point of which the file's distribution leaves scaled by 1/area:
+/// radiance L(x, w) = I(w) / (A |cos theta|), theta from the up axis, so that the opening's
+/// intensity integral_A L |cos theta| dA is the file's I(w) in every direction.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum LuminousOpening {
+    /// All light from the photometric centre.
+    #[default]
+    Point,
+    /// A rectangle of side `c0` along C0 and `c90` along C90 (metres).
+    Rect {
+        /// Side along C0.
+        c0: f32,
+        /// Side along C90.
+        c90: f32,
+    },
+    /// A disk of diameter `diameter` (metres).
+    Disk {
+        /// Diameter.
+        diameter: f32,
     },
 }
 

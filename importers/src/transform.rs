@@ -2,7 +2,7 @@
 
 use glam::{Affine3A, Mat3, Vec3};
 
-use crate::scene_desc::{CameraDesc, LightDesc, MeshDesc};
+use crate::scene_desc::{CameraDesc, LightDesc, LuminousOpening, MeshDesc};
 
 /// `scale`, then rotation about X, Y, Z (in that order, fixed axes), then `translate`.
 pub(crate) fn trs(translate: Vec3, rotate_deg_xyz: Vec3, scale: Vec3) -> Affine3A {
@@ -70,8 +70,15 @@ pub(crate) fn transform_light(light: &mut LightDesc, m: &Affine3A) {
             *direction = m.transform_vector3(*direction);
         }
         LightDesc::Directional { direction, .. } => *direction = m.transform_vector3(*direction),
-        LightDesc::Luminaire { position, frame, .. } => {
+        LightDesc::Luminaire { position, frame, opening, .. } => {
             *position = m.transform_point3(*position);
+            // the opening's sides scale with the transform along C0 and C90
+            let (s0, s90) = (m.transform_vector3(frame.x_axis).length(), m.transform_vector3(frame.y_axis).length());
+            *opening = match *opening {
+                LuminousOpening::Point => LuminousOpening::Point,
+                LuminousOpening::Rect { c0, c90 } => LuminousOpening::Rect { c0: c0 * s0, c90: c90 * s90 },
+                LuminousOpening::Disk { diameter } => LuminousOpening::Disk { diameter: diameter * (s0 * s90).sqrt() },
+            };
             // the turned frame, made orthonormal again (a scale does not change candela; a
             // mirror keeps the frame right-handed, C90 on the mirrored side of C0 and up)
             let up = m.transform_vector3(frame.z_axis).normalize_or(frame.z_axis);

@@ -391,3 +391,21 @@ fn semi_cylindrical_sensors_need_a_horizontal_facing() {
     let (t, e) = bad_extra(&format!("{meter}quantity = \"semicylindrical\"\n"), &[]);
     assert_at(&e, "scene.toml", line_of(&t, "quantity ="), &["semi-cylindrical"]);
 }
+
+/// A luminaire's `opening` is a rectangle (`size`) or a disk (`diameter`) of positive lengths;
+/// anything else is an error at its line.
+#[test]
+fn luminaire_openings_are_checked() {
+    let ies = "IESNA:LM-63-2002\nTILT=NONE\n1 -1 1 2 1 1 2 0 0 0\n1 1 10\n0 90\n0\n100 0\n";
+    let lamp = "[[light]]\ntype = \"luminaire\"\nfile = \"l.ies\"\nposition = [0, 2, 0]\n";
+    for (opening, needle) in [
+        ("opening = { size = [1, 0] }", "positive lengths"),
+        ("opening = { diameter = -1 }", "positive length"),
+        ("opening = { size = [1, 1], diameter = 1 }", "diameter"),
+        ("opening = { }", "`size = [c0, c90]` or `diameter = d`"),
+        ("opening = { radius = 1 }", "unknown key `radius`"),
+    ] {
+        let (t, e) = bad_extra(&format!("{lamp}{opening}\n"), &[("l.ies", ies)]);
+        assert_at(&e, "scene.toml", line_of(&t, "opening ="), &[needle]);
+    }
+}

@@ -110,7 +110,8 @@ pub struct LightSample {
     pub pdf: f32,
     /// Distance to the light sample (infinite for distant lights).
     pub dist: f32,
-    /// True for point/spot/luminaire/directional lights (no MIS possible).
+    /// True for point/spot/luminaire/directional lights (no MIS possible: a luminaire's opening
+    /// is sampled by area but cannot be hit by rays).
     pub delta: bool,
 }
 
@@ -218,7 +219,7 @@ impl Light {
                 Some(LightSample { li, wi, pdf: 1.0, dist, delta: true })
             }
             Self::Luminaire(l) => {
-                let d = l.position - p;
+                let d = l.emission_point(u) - p;
                 let dist2 = d.length_squared();
                 if dist2.is_nan() || dist2 <= 0.0 {
                     return None;
@@ -360,7 +361,7 @@ impl Light {
             }
             Self::Luminaire(l) => {
                 let (dir, pdf) = l.sample_direction(u_dir)?;
-                EmittedPhoton { origin: l.position, dir, flux: l.intensity(dir, wl) * (1.0 / pdf) }
+                EmittedPhoton { origin: l.emission_point(u_pos), dir, flux: l.intensity(dir, wl) * (1.0 / pdf) }
             }
             Self::Directional { direction, spectrum, scale, scene_radius } => {
                 let origin = disk_origin(center, *scene_radius, *direction, u_pos);

@@ -4,11 +4,19 @@
 //! sampling a 1-degree grid over the sphere whose cell weights bound the interpolated
 //! distribution, mixed with 2% uniform directions so that every direction with light has a
 //! density (the estimator is unbiased whatever the table holds).
+//!
+//! With a luminous opening (near field) the light leaves from a point x uniform over the
+//! opening with the same distribution, radiance L(x, w) = I(w) / (A |cos theta|): next-event
+//! estimation at p takes I(w_x) / |x - p|^2 towards a uniform x, the mean over the opening of
+//! the point formula, which is the opening's exact illuminance (E = integral_A L cos theta_p
+//! cos theta_x / d^2 dA = E_x[I(w_x) cos theta_p / d_x^2]); photons start at a uniform x. The
+//! opening is not geometry: camera rays do not see it and it blocks nothing.
 
 use std::f32::consts::PI;
 use std::sync::Arc;
 
 use glam::{Mat3, Vec2, Vec3};
+use quasar_importers::LuminousOpening;
 use quasar_importers::photometry::PhotometricWeb;
 use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 
@@ -34,6 +42,8 @@ pub struct Luminaire {
     pub scale: f32,
     /// The web's luminous flux (lm), by quadrature.
     pub flux_lm: f64,
+    /// Where the light leaves (the photometric centre or a luminous opening).
+    pub opening: LuminousOpening,
     rows: Distribution1D,
     cols: Vec<Distribution1D>,
 }
@@ -64,7 +74,35 @@ impl Luminaire {
             cols.push(Distribution1D::new(&w));
         }
         let flux_lm = web.flux();
-        Self { position, frame, web, spectrum, scale, flux_lm, rows: Distribution1D::new(&row_w), cols }
+        Self {
+            position,
+            frame,
+            web,
+            spectrum,
+            scale,
+            flux_lm,
+            opening: LuminousOpening::Point,
+            rows: Distribution1D::new(&row_w),
+            cols,
+        }
+    }
+
+    /// This luminaire with its light leaving from `opening`.
+    pub fn with_opening(mut self, opening: LuminousOpening) -> Self {
+        self.opening = opening;
+        self
+    }
+
+    /// A point where light leaves, uniform over the opening (the photometric centre for a point
+    /// luminaire), from two uniform numbers.
+    #[inline]
+    pub fn emission_point(&self, u: Vec2) -> Vec3 {
+        let local = match self.opening {
+            LuminousOpening::Point => return self.position,
+            LuminousOpening::Rect { c0, c90 } => Vec2::new((u.x - 0.5) * c0, (u.y - 0.5) * c90),
+            LuminousOpening::Disk { diameter } => quasar_materials::warp::concentric_disk(u) * (0.5 * diameter),
+        };
+        self.position + self.frame.x_axis * local.x + self.frame.y_axis * local.y
     }
 
     /// Candela towards the world direction `w` (unit) leaving the luminaire.
@@ -233,6 +271,44 @@ mod tests {
         let k = (dof - 1) as f64;
         let q = k * (1.0 - 2.0 / (9.0 * k) + 3.09 * (2.0 / (9.0 * k)).sqrt()).powi(3);
         assert!(chi2 < q, "chi2 {chi2} over {dof} cells (limit {q})");
+    }
+
+    /// Emission points are uniform over the opening: a rectangle's in its C0/C90 plane with the
+    /// moments of a uniform rectangle (mean 0, variance side^2 / 12) and a chi-square test on a
+    /// 4 x 4 grid; a disk's within its radius with mean squared radius R^2 / 2.
+    #[test]
+    fn emission_points_are_uniform_over_the_opening() {
+        let rect = luminaire().with_opening(LuminousOpening::Rect { c0: 1.2, c90: 0.4 });
+        let mut s = crate::core::sampling::Sampler::new(5, 0, 0);
+        let n = 64_000usize;
+        let (mut m, mut v, mut hist) = (Vec2::ZERO, Vec2::ZERO, [0f64; 16]);
+        for _ in 0..n {
+            let p = rect.emission_point(s.get_2d());
+            // frame: C0 = +X, C90 = -Z, up = +Y; the plane through the centre
+            assert_eq!(p.y, 0.0);
+            let q = Vec2::new(p.x, -p.z);
+            assert!(q.x.abs() <= 0.6 && q.y.abs() <= 0.2, "{q}");
+            m += q;
+            v += q * q;
+            let (i, j) = ((((q.x / 1.2 + 0.5) * 4.0) as usize).min(3), (((q.y / 0.4 + 0.5) * 4.0) as usize).min(3));
+            hist[i * 4 + j] += 1.0;
+        }
+        let (m, v) = (m / n as f32, v / n as f32);
+        assert!(m.abs().max_element() < 0.01, "{m}");
+        assert!((v.x / (1.44 / 12.0) - 1.0).abs() < 0.02 && (v.y / (0.16 / 12.0) - 1.0).abs() < 0.02, "{v}");
+        let e = n as f64 / 16.0;
+        let chi2: f64 = hist.iter().map(|h| (h - e).powi(2) / e).sum();
+        assert!(chi2 < 37.7, "chi2 {chi2} over 16 cells (99.9% of 15 dof: 37.7)");
+        let disk = luminaire().with_opening(LuminousOpening::Disk { diameter: 1.0 });
+        let mut r2 = 0.0f64;
+        for _ in 0..n {
+            let p = disk.emission_point(s.get_2d());
+            let d2 = f64::from(p.x * p.x + p.z * p.z);
+            assert!(d2 <= 0.25 + 1e-6 && p.y == 0.0);
+            r2 += d2;
+        }
+        assert!((r2 / n as f64 / 0.125 - 1.0).abs() < 0.02, "{}", r2 / n as f64);
+        assert_eq!(luminaire().emission_point(Vec2::new(0.3, 0.7)), Vec3::ZERO);
     }
 
     /// The frame maps C90 of the default orientation (aim down) to world -Z.

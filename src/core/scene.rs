@@ -317,7 +317,7 @@ impl Scene {
                     }
                     Light::Directional { direction: d, spectrum: spectrum.clone(), scale: *scale, scene_radius: radius }
                 }
-                LightDesc::Luminaire { position, frame, web, spectrum, scale } => {
+                LightDesc::Luminaire { position, frame, web, spectrum, scale, opening } => {
                     if !position.is_finite() || !frame.is_finite() || !scale.is_finite() || *scale < 0.0 {
                         return Err(lerr("luminaire position, orientation and scale must be finite"));
                     }
@@ -327,7 +327,8 @@ impl Scene {
                         web.clone(),
                         spectrum.clone(),
                         *scale,
-                    );
+                    )
+                    .with_opening(*opening);
                     Light::Luminaire(std::sync::Arc::new(l))
                 }
                 LightDesc::Environment { spectrum, scale, map } => Light::Environment {

@@ -42,20 +42,27 @@ pub fn report(path: &Path, desc: &SceneDesc, compiled: &Scene) -> String {
         let _ = writeln!(s, "cameras in the file: {}", names.join(", "));
     }
     for l in &desc.lights {
-        if let quasar_importers::LightDesc::Luminaire { position, frame, web, scale, spectrum } = l {
+        if let quasar_importers::LightDesc::Luminaire { position, frame, web, scale, spectrum, opening } = l {
             let per_cd = quasar_importers::photometric::photometric_scale(1.0);
             let factor = scale / per_cd * spectrum.luminance();
             let stated = web.lamp_lumens.map_or("absolute photometry".to_string(), |l| format!("lamp {} lm", num(l)));
             let _ = writeln!(
                 s,
-                "luminaire: {} ({}) at {}, nadir towards {}: {} lm ({stated}), peak {} cd, x {}",
+                "luminaire: {} ({}) at {}, nadir towards {}: {} lm ({stated}), peak {} cd, x {}, {}",
                 web.file.display(),
                 if web.label.is_empty() { "no label" } else { &web.label },
                 vec3(*position),
                 vec3(glam::Vec3::ZERO - frame.z_axis),
                 num(web.flux() as f32 * factor),
                 num(web.max_candela() * factor),
-                num(factor)
+                num(factor),
+                match opening {
+                    quasar_importers::LuminousOpening::Point => "a point (far field)".to_string(),
+                    quasar_importers::LuminousOpening::Rect { c0, c90 } =>
+                        format!("opening {} x {} m (C0 x C90)", num(*c0), num(*c90)),
+                    quasar_importers::LuminousOpening::Disk { diameter } =>
+                        format!("opening a disk of {} m", num(*diameter)),
+                }
             );
         }
     }

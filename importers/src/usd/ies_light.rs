@@ -82,5 +82,6 @@ pub(super) fn with_ies_profile(
         web: Arc::new(web),
         spectrum,
         scale,
+        opening: crate::scene_desc::LuminousOpening::Point,
     }))
 }
