@@ -264,6 +264,16 @@ fn near_field_luminaires_are_their_luminous_openings() {
     check("disk opening, axis", disk[0].lux[0], disk[0].stderr[0], i0 / (4.0 + 0.36));
     let point = measure(&format!("{camera}{}{meters}", lamp("")), &files);
     check("point luminaire, centre", point[0].lux[0], point[0].stderr[0].max(1e-9), i0 / 4.0);
+    // a UsdLux RectLight with the profile (ShapingAPI ies:file) has its rectangle as the opening:
+    // width 0.6 scaled by 2 along its X (C0, world +X), height 0.6 along its Y (C90, world -Z
+    // once turned to face down): a 1.2 x 0.6 rectangle, seen from its centre and its corner
+    let stage = "#usda 1.0\n(\n    metersPerUnit = 1\n    upAxis = \"Y\"\n)\ndef RectLight \"Lamp\" (\n    prepend apiSchemas = [\"ShapingAPI\"]\n)\n{\n    float inputs:width = 0.6\n    float inputs:height = 0.6\n    asset inputs:shaping:ies:file = @./cos.ies@\n    double3 xformOp:translate = (0, 2, 0)\n    float xformOp:rotateX = -90\n    float3 xformOp:scale = (2, 1, 1)\n    uniform token[] xformOpOrder = [\"xformOp:translate\", \"xformOp:rotateX\", \"xformOp:scale\"]\n}\n";
+    let usd_files = [files[0], ("lamp.usda", stage)];
+    let usd_meters = meters.replace("position = [0.6, 0, 0.6]", "position = [0.6, 0, 0.3]");
+    let usd = measure(&format!("{camera}[[include]]\nfile = \"lamp.usda\"\n{usd_meters}"), &usd_files);
+    let l = i0 / 0.72;
+    check("USD RectLight opening, centre", usd[0].lux[0], usd[0].stderr[0], l * 4.0 * corner(0.6, 0.3, 2.0));
+    check("USD RectLight opening, corner", usd[1].lux[0], usd[1].stderr[0], l * corner(1.2, 0.6, 2.0));
 }
 
 /// `--false-colour luminance` writes `<image>.luminance.png` whose map pixels are the ramp

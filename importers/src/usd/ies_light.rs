@@ -3,8 +3,11 @@
 //! emit), C0 along its +X, tinted by the light's colour or colour temperature.
 //!
 //! - `shaping:ies:normalize` false (the schema default): the file's candela times 2^`exposure`
-//!   are the luminous intensity in cd, as for a TOML luminaire; `intensity` and the light's
-//!   shape are not used (a note says so).
+//!   are the luminous intensity in cd, as for a TOML luminaire; `intensity` is not used (a note
+//!   says so).
+//! - The light's shape is the luminaire's luminous opening (near field, docs/photometry.md): a
+//!   `RectLight`'s `width` x `height` (along C0 = its +X and C90 = its +Y), a `DiskLight`'s
+//!   disk, scaled by the light's transform; other lights are a point.
 //! - `shaping:ies:normalize` true: the profile is rescaled so that the luminaire emits the flux of
 //!   the light without the profile (UsdLux: "preserving the overall energy output"): pi L A for
 //!   an area light of luminance L and area A, 4 pi I for a point light.
@@ -21,11 +24,13 @@ use super::light::UsdLight;
 use super::value::{self, AttrError};
 use crate::photometric::photometric_scale;
 use crate::photometry::read_photometric_file;
-use crate::scene_desc::LightDesc;
+use crate::scene_desc::{LightDesc, LuminousOpening};
 
-/// The light `light` read from `prim` with its IES profile applied, when `prim` has one.
+/// The light `light` read from `prim` (of type `ty`) with its IES profile applied, when `prim`
+/// has one.
 pub(super) fn with_ies_profile(
     prim: &Prim,
+    ty: &str,
     light: UsdLight,
     world: &Affine3A,
     stage_file: &std::path::Path,
@@ -69,10 +74,26 @@ pub(super) fn with_ies_profile(
         (unshaped_flux / web_flux) as f32
     } else {
         let exposure = value::scalar(prim, "inputs:exposure")?.or(value::scalar(prim, "exposure")?).unwrap_or(0.0);
-        notes.push("the IES profile gives the intensity in cd: `intensity` and the light's shape are not used".into());
+        notes.push("the IES profile gives the intensity in cd: `intensity` is not used".into());
         photometric_scale(2f64.powf(exposure) as f32)
     };
     let m = world.matrix3;
+    let dim = |n: &str, default: f64| -> Result<f32, AttrError> {
+        let v = value::scalar(prim, &format!("inputs:{n}"))?.or(value::scalar(prim, n)?).unwrap_or(default);
+        Ok(if v.is_finite() && v > 0.0 { v as f32 } else { 0.0 })
+    };
+    let (sx, sy) = (Vec3::from(m.x_axis).length(), Vec3::from(m.y_axis).length());
+    let opening = match (ty, &light) {
+        ("RectLight", UsdLight::Mesh(_)) => {
+            let (w, h) = (dim("width", 1.0)? * sx, dim("height", 1.0)? * sy);
+            if w > 0.0 && h > 0.0 { LuminousOpening::Rect { c0: w, c90: h } } else { LuminousOpening::Point }
+        }
+        ("DiskLight", UsdLight::Mesh(_)) => {
+            let d = 2.0 * dim("radius", 0.5)? * (sx * sy).sqrt();
+            if d > 0.0 { LuminousOpening::Disk { diameter: d } } else { LuminousOpening::Point }
+        }
+        _ => LuminousOpening::Point,
+    };
     let up = Vec3::from(m.z_axis).normalize_or(Vec3::Z);
     let c0 = Vec3::from(m.x_axis);
     let c0 = (c0 - c0.dot(up) * up).normalize_or(up.any_orthonormal_vector());
@@ -82,6 +103,6 @@ pub(super) fn with_ies_profile(
         web: Arc::new(web),
         spectrum,
         scale,
-        opening: crate::scene_desc::LuminousOpening::Point,
+        opening,
     }))
 }
