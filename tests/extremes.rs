@@ -11,7 +11,10 @@ use quasar::render::job::JobOverrides;
 
 /// Every method, with small budgets: (name, overrides).
 fn every_method(w: u32, h: u32, seed: u64) -> Vec<(&'static str, JobOverrides)> {
-    let base = JobOverrides { width: Some(w), height: Some(h), seed: Some(seed), ..Default::default() };
+    // with spectral bins, so that their channels are checked for finiteness too
+    let bins = quasar::film::SpectralBins::new(16, 360.0, 830.0).ok();
+    let base =
+        JobOverrides { width: Some(w), height: Some(h), seed: Some(seed), spectral_bins: bins, ..Default::default() };
     let bidir = |method: &'static str, cone: Option<f32>| {
         (method, {
             let ov = JobOverrides { method: Some(method.into()), ..base.clone() }
