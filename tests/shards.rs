@@ -149,3 +149,29 @@ fn resume_equals_the_uninterrupted_render() {
     let bad = JobOverrides { resume: Some(dir.path().join("bad.ckpt")), ..ov("pt", None) };
     assert!(quasar::render::job::render_desc(&desc, &bad, false).is_err());
 }
+
+/// Images written before the illuminance layer's sample count was recorded in the header merge
+/// their layers by `spp.Y` as before (not to zero).
+#[test]
+fn illuminance_layers_without_a_count_merge_by_spp() {
+    let mut shards: Vec<ExrImage> = (0..2).map(|k| render_file(&scene(), &ov("pt", Some((k, 2)))).image).collect();
+    for s in &mut shards {
+        s.metadata.retain(|(k, _)| k != "illuminance_samples");
+    }
+    let merged = quasar::tools::merge::merge(&shards).unwrap();
+    let (a, b, m) = (
+        shards[0].channel("illuminance.Y").unwrap(),
+        shards[1].channel("illuminance.Y").unwrap(),
+        merged.channel("illuminance.Y").unwrap(),
+    );
+    for i in 0..m.len() {
+        assert!(
+            (m[i] - 0.5 * (a[i] + b[i])).abs() <= 1e-5 * m[i].abs().max(1e-3),
+            "pixel {i}: {} vs {} {}",
+            m[i],
+            a[i],
+            b[i]
+        );
+    }
+    assert!(m.iter().any(|&v| v > 0.0));
+}

@@ -121,13 +121,15 @@ pub fn merge(images: &[ExrImage]) -> Result<ExrImage, String> {
     let illuminance_n: Vec<f64> =
         images.iter().map(|img| img.meta("illuminance_samples").and_then(|v| v.parse().ok()).unwrap_or(0.0)).collect();
     let illuminance_of = |k: usize, _p: usize| illuminance_n[k];
+    // images written before the count was recorded: their layers are averaged by spp.Y
+    let illuminance_counted = images.iter().all(|img| img.meta("illuminance_samples").is_some());
     let mut channels = Vec::new();
     for c in &first.channels {
         let values: Vec<f32> = match c.name.as_str() {
             "spp.Y" => total.iter().map(|&t| t as f32).collect(),
             "depth.Z" => c.values.clone(),
             "stderr.Y" => pooled_stderr(images, &spp_of, "XYZ.Y", "stderr.Y"),
-            ILLUMINANCE_LX => pooled_mean(images, &illuminance_of, ILLUMINANCE_LX),
+            ILLUMINANCE_LX if illuminance_counted => pooled_mean(images, &illuminance_of, ILLUMINANCE_LX),
             ILLUMINANCE_STDERR_LX => pooled_stderr(images, &illuminance_of, ILLUMINANCE_LX, ILLUMINANCE_STDERR_LX),
             "XYZ.Y" => mean_y.iter().map(|&v| v as f32).collect(),
             name => match name.strip_prefix("stderr.block").and_then(|s| s.parse::<usize>().ok()) {
