@@ -203,7 +203,8 @@ def Xform "World"
 
 /// A textured DomeLight follows UsdLux's OpenEXR lat-long orientation: the left half of the image
 /// (longitude 0..pi) lights the dome's +X half, so a camera looking along +X sees it bright and
-/// one looking along -X dark; a dome turned 90 degrees about +Y moves the bright half to -Z.
+/// one looking along -X dark; a dome turned 90 degrees about +Y moves the bright half to -Z, and
+/// one turned 90 degrees about +Z (its pole tilted onto -X) moves it up (+Y).
 #[test]
 fn dome_light_textures_follow_the_openexr_orientation() {
     let dir = tempfile::tempdir().unwrap();
@@ -212,7 +213,7 @@ fn dome_light_textures_follow_the_openexr_orientation() {
         if x < w / 2 { (1.0f32, 1.0f32, 1.0f32) } else { (0.01, 0.01, 0.01) }
     })
     .unwrap();
-    let stage = |dome_yaw: f32, cam_yaw: f32| {
+    let stage = |dome: &str, cam: &str| {
         format!(
             r#"#usda 1.0
 (
@@ -224,31 +225,37 @@ def Xform "World"
     def Camera "Cam"
     {{
         float focalLength = 50
-        float xformOp:rotateY = {cam_yaw}
-        uniform token[] xformOpOrder = ["xformOp:rotateY"]
+        float xformOp:{cam}
+        uniform token[] xformOpOrder = ["xformOp:{cam_op}"]
     }}
     def DomeLight "Sky"
     {{
         float inputs:intensity = 1
         asset inputs:texture:file = @./sky.exr@
         token inputs:texture:format = "latlong"
-        float xformOp:rotateY = {dome_yaw}
-        uniform token[] xformOpOrder = ["xformOp:rotateY"]
+        float xformOp:{dome}
+        uniform token[] xformOpOrder = ["xformOp:{dome_op}"]
     }}
 }}
-"#
+"#,
+            cam_op = cam.split(' ').next().unwrap(),
+            dome_op = dome.split(' ').next().unwrap(),
         )
     };
-    // camera yaw -90 looks along +X, 90 along -X, 0 along -Z, 180 along +Z
-    for (dome_yaw, bright_cam, dark_cam) in [(0.0, -90.0, 90.0), (90.0, 0.0, 180.0)] {
-        let mean = |cam: f32| {
+    // camera yaw -90 looks along +X, 90 along -X, 0 along -Z, 180 along +Z; pitch 90 up, -90 down
+    for (dome, bright_cam, dark_cam) in [
+        ("rotateY = 0", "rotateY = -90", "rotateY = 90"),
+        ("rotateY = 90", "rotateY = 0", "rotateY = 180"),
+        ("rotateZ = 90", "rotateX = 90", "rotateX = -90"),
+    ] {
+        let mean = |cam: &str| {
             let p = dir.path().join("dome.usda");
-            std::fs::write(&p, stage(dome_yaw, cam)).unwrap();
+            std::fs::write(&p, stage(dome, cam)).unwrap();
             let desc = quasar_importers::import_scene(&p, &ImportOptions::default()).unwrap_or_else(|e| panic!("{e}"));
             let img = render_desc(&desc, &common::pt_ov(8, 8, 4, 1), false).unwrap().image;
             common::mean(img.channel("XYZ.Y").unwrap())
         };
         let (bright, dark) = (mean(bright_cam), mean(dark_cam));
-        assert!(bright > 20.0 * dark, "dome yaw {dome_yaw}: bright side {bright}, dark side {dark}");
+        assert!(bright > 20.0 * dark, "dome {dome}: bright side {bright}, dark side {dark}");
     }
 }

@@ -74,7 +74,7 @@ pub fn load_env_map(path: &Path) -> Result<EnvMapDesc, ImportError> {
             format!("texel ({}, {}) is not finite and >= 0: {t:?}", i % width, i / width),
         ));
     }
-    Ok(EnvMapDesc { file: path.to_path_buf(), width, height, texels, rotate_deg: 0.0 })
+    Ok(EnvMapDesc { file: path.to_path_buf(), width, height, texels, frame: glam::Mat3::IDENTITY })
 }
 
 type Texels = (usize, usize, Vec<[f32; 3]>);

@@ -168,10 +168,11 @@ pub enum LuminousOpening {
     },
 }
 
-/// A lat-long (equirectangular) environment map: linear RGB radiance texels, row 0 the zenith
-/// (+Y); u = 0.5 + atan2(d.x, -d.z) / (2 pi) (the image centre looks along -Z); rotated about +Y
-/// by `rotate_deg` (counter-clockwise seen from above). Each texel's RGB is a light colour:
-/// (1, 1, 1) is D65 white of luminance 1.
+/// A lat-long (equirectangular) environment map: linear RGB radiance texels; in the map's own
+/// frame row 0 is the zenith (+Y) and u = 0.5 + atan2(d.x, -d.z) / (2 pi) (the image centre
+/// looks along -Z); `frame` turns that frame into the world (TOML `rotate_deg`: about +Y,
+/// counter-clockwise seen from above; USD: the dome's transform). Each texel's RGB is a light
+/// colour: (1, 1, 1) is D65 white of luminance 1.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EnvMapDesc {
     /// The file it came from (for messages).
@@ -182,8 +183,10 @@ pub struct EnvMapDesc {
     pub height: usize,
     /// Row-major RGB texels.
     pub texels: Vec<[f32; 3]>,
-    /// Rotation about +Y in degrees.
-    pub rotate_deg: f32,
+    /// Map frame -> world: the world directions of the map's +X, +Y (the pole, row 0) and +Z
+    /// (orthonormal, right-handed); the identity for an unturned map, a rotation about +Y for
+    /// `rotate_deg`.
+    pub frame: glam::Mat3,
 }
 
 /// Which image axis `fov_deg` spans.

@@ -37,8 +37,8 @@ pub struct EnvMap {
     rows: Distribution1D,
     /// Texel choice within each row.
     columns: Vec<Distribution1D>,
-    /// cos and sin of the rotation about +Y.
-    rotation: (f32, f32),
+    /// Map frame -> world (orthonormal).
+    frame: glam::Mat3,
     /// D65 normalised to luminance 1 (the light colour (1, 1, 1)).
     d65_norm: f32,
     /// Mean radiance over the sphere (luminance-weighted), for light selection.
@@ -77,14 +77,13 @@ impl EnvMap {
         }
         let d65 = Spectrum::illuminant(StandardIlluminant::D65);
         let Spectrum::Illuminant { norm, .. } = d65 else { unreachable!("an illuminant") };
-        let r = desc.rotate_deg.to_radians();
         Self {
             width: w,
             height: h,
             texels,
             rows: Distribution1D::new(&row_weights),
             columns,
-            rotation: (r.cos(), r.sin()),
+            frame: desc.frame,
             d65_norm: norm,
             mean_luminance: total / (4.0 * std::f64::consts::PI),
         }
@@ -97,12 +96,10 @@ impl EnvMap {
 
     /// (u, v) of world direction `d` (unit).
     fn uv(&self, d: Vec3) -> Vec2 {
-        let (c, s) = self.rotation;
-        // undo the rotation about +Y
-        let x = c * d.x - s * d.z;
-        let z = s * d.x + c * d.z;
-        let u = 0.5 + x.atan2(-z) / (2.0 * PI);
-        let v = d.y.clamp(-1.0, 1.0).acos() / PI;
+        // into the map's frame (orthonormal: the inverse is the transpose)
+        let m = self.frame.transpose() * d;
+        let u = 0.5 + m.x.atan2(-m.z) / (2.0 * PI);
+        let v = m.y.clamp(-1.0, 1.0).acos() / PI;
         Vec2::new(u.rem_euclid(1.0), v)
     }
 
@@ -110,9 +107,7 @@ impl EnvMap {
     fn direction(&self, uv: Vec2) -> Vec3 {
         let (theta, phi) = (PI * uv.y, 2.0 * PI * (uv.x - 0.5));
         let (st, ct) = theta.sin_cos();
-        let (x, z) = (st * phi.sin(), -st * phi.cos());
-        let (c, s) = self.rotation;
-        Vec3::new(c * x + s * z, ct, -s * x + c * z)
+        self.frame * Vec3::new(st * phi.sin(), ct, -st * phi.cos())
     }
 
     fn texel_index(&self, uv: Vec2) -> usize {
@@ -179,7 +174,13 @@ mod tests {
 
     fn map(w: usize, h: usize, f: impl Fn(usize, usize) -> [f32; 3]) -> EnvMap {
         let texels = (0..w * h).map(|i| f(i % w, i / w)).collect();
-        EnvMap::new(&EnvMapDesc { file: "t.exr".into(), width: w, height: h, texels, rotate_deg: 30.0 })
+        EnvMap::new(&EnvMapDesc {
+            file: "t.exr".into(),
+            width: w,
+            height: h,
+            texels,
+            frame: glam::Mat3::from_rotation_y(30f32.to_radians()),
+        })
     }
 
     #[test]
@@ -195,7 +196,7 @@ mod tests {
             width: 4,
             height: 2,
             texels: vec![[1.0; 3]; 8],
-            rotate_deg: 0.0,
+            frame: glam::Mat3::IDENTITY,
         });
         assert!((m0.direction(Vec2::new(0.5, 0.5)) - Vec3::NEG_Z).length() < 1e-6);
         assert!((m0.direction(Vec2::new(0.75, 0.5)) - Vec3::X).length() < 1e-6);

@@ -143,7 +143,8 @@ pub(super) fn light(t: &Tbl<'_>, unit: f32) -> Result<LightDesc, ImportError> {
                     let path = doc.resolve(name);
                     let mut m =
                         crate::env_map::load_env_map(&path).map_err(|e| e.included_from(doc.place(&v.span())))?;
-                    m.rotate_deg = t.opt_f32_where("rotate_deg", "finite", |r| r.is_finite())?.unwrap_or(0.0);
+                    let deg = t.opt_f32_where("rotate_deg", "finite", |r| r.is_finite())?.unwrap_or(0.0);
+                    m.frame = glam::Mat3::from_rotation_y(deg.to_radians());
                     Some(std::sync::Arc::new(m))
                 }
             };

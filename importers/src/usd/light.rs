@@ -115,7 +115,7 @@ fn local_mesh(name: &str, t: Tessellation, spectrum: Spectrum, scale: f32) -> Me
 /// A `DomeLight`: a constant environment, or the lat-long `texture:file` (`.exr` / `.hdr`) in
 /// the OpenEXR orientation UsdLux specifies (longitude 0 at the image centre looks along the
 /// dome's +Z, longitude pi/2 along +X, +Y the pole: quasar's map turned 180 degrees about +Y)
-/// turned with the dome's rotation about the vertical. The map's texels times the light's
+/// turned with the dome's rotation (a tilted pole included). The map's texels times the light's
 /// luminance are the radiance; a non-white `color` scales it by its luminance.
 fn dome(
     prim: &Prim,
@@ -139,14 +139,12 @@ fn dome(
     }
     let mut map =
         crate::env_map::load_env_map(&path).map_err(|e| ("inputs:texture:file".to_string(), e.to_string()))?;
-    let pole = world.transform_vector3(Vec3::Y).normalize_or_zero();
-    if pole.dot(Vec3::Y) < 0.9998 {
-        notes.push(format!(
-            "the dome's pole points along {pole} in quasar's frame (Y up): only its rotation about the vertical is used"
-        ));
-    }
+    // the dome's turn (its transform without scale or shear: the pole along its +Y, the image
+    // centre along its +Z), after UsdLux's orientation: quasar's map turned 180 degrees about +Y
+    let pole = world.transform_vector3(Vec3::Y).normalize_or(Vec3::Y);
     let z = world.transform_vector3(Vec3::Z);
-    map.rotate_deg = 180.0 + z.x.atan2(z.z).to_degrees();
+    let z = (z - z.dot(pole) * pole).normalize_or(pole.any_orthonormal_vector());
+    map.frame = glam::Mat3::from_cols(pole.cross(z), pole, z) * glam::Mat3::from_rotation_y(std::f32::consts::PI);
     let color = match value::vec3(prim, "inputs:color")? {
         Some(c) => Some(c),
         None => value::vec3(prim, "color")?,
