@@ -456,3 +456,48 @@ fn usd_wg_composition_assets_import_like_pixar() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// `DomeLight_1` `poleAxis` (UsdLux: the dome's own starting alignment, "scene" the stage's up
+/// axis): pole Z turns the dome by 90 degrees about +X (latitude +pi/2 along +Z, latitude 0 and
+/// longitude 0 along -Y), so a Z-up stage's `DomeLight_1` lights quasar's frame as a Y-up stage's
+/// `DomeLight` does, pole Y in a Z-up stage as its `DomeLight`, and pole Z in a Y-up stage as a
+/// `DomeLight` turned by rotateX 90; an unknown pole axis is an error naming the attribute.
+#[test]
+fn dome_light_1_pole_axis_sets_the_domes_starting_alignment() {
+    let dir = tempfile::tempdir().unwrap();
+    exr::prelude::write_rgb_file(dir.path().join("sky.exr"), 8, 4, |x, y| (x as f32, y as f32, 1.0f32)).unwrap();
+    let frame = |up: &str, ty: &str, extra: &str| -> Result<glam::Mat3, String> {
+        let stage = format!(
+            "#usda 1.0\n(\n    metersPerUnit = 1\n    upAxis = \"{up}\"\n)\ndef {ty} \"Sky\"\n{{\n    asset inputs:texture:file = @./sky.exr@\n{extra}}}\n"
+        );
+        let p = dir.path().join("dome.usda");
+        std::fs::write(&p, stage).unwrap();
+        let desc = import_scene(&p, &ImportOptions::default()).map_err(|e| e.to_string())?;
+        match desc.lights.first() {
+            Some(LightDesc::Environment { map: Some(m), .. }) => Ok(m.frame),
+            other => panic!("no textured environment: {other:?}"),
+        }
+    };
+    let close = |a: glam::Mat3, b: glam::Mat3, what: &str| {
+        assert!((a - b).to_cols_array().iter().all(|d| d.abs() < 1e-5), "{what}: {a} vs {b}");
+    };
+    let y_up_dome = frame("Y", "DomeLight", "").unwrap();
+    close(frame("Z", "DomeLight_1", "").unwrap(), y_up_dome, "scene pole in a Z-up stage");
+    close(frame("Y", "DomeLight_1", "").unwrap(), y_up_dome, "scene pole in a Y-up stage");
+    close(
+        frame("Z", "DomeLight_1", "    uniform token poleAxis = \"Y\"\n").unwrap(),
+        frame("Z", "DomeLight", "").unwrap(),
+        "pole Y in a Z-up stage",
+    );
+    let turned = "    float xformOp:rotateX = 90\n    uniform token[] xformOpOrder = [\"xformOp:rotateX\"]\n";
+    close(
+        frame("Y", "DomeLight_1", "    uniform token poleAxis = \"Z\"\n").unwrap(),
+        frame("Y", "DomeLight", turned).unwrap(),
+        "pole Z in a Y-up stage",
+    );
+    // the old DomeLight of a Z-up stage keeps its pole on the stage's +Y: tilted in quasar's frame
+    let old = frame("Z", "DomeLight", "").unwrap();
+    assert!((old.y_axis - Vec3::NEG_Z).length() < 1e-5, "{old}");
+    let e = frame("Y", "DomeLight_1", "    uniform token poleAxis = \"X\"\n").unwrap_err();
+    assert!(e.contains("poleAxis") && e.contains("/Sky"), "{e}");
+}

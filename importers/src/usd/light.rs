@@ -15,10 +15,11 @@
 //! | `CylinderLight` (length along X, radius) | emissive cylinder side (64 segments), outward |
 //! | `DistantLight` (towards -Z) | directional light of illuminance L_v lux (`angle` ignored: a delta light; warned above 2°) |
 //! | `DomeLight` | constant environment of luminance L_v, or its lat-long `texture:file` (`.exr`, `.hdr`) times L_v in UsdLux's OpenEXR orientation ([`dome`]) |
+//! | `DomeLight_1` | the same, its pole first aligned by `poleAxis` (`scene`: the stage's up axis; `Y`; `Z`: the dome turned 90 degrees about +X) |
 //!
 //! `normalize = true` divides an area light's luminance by its world-space area (the power no
 //! longer depends on the size). `ShapingAPI` `shaping:ies:file` makes any of them but distant
-//! and dome lights a point luminaire (`ies_light.rs`, applied by the caller). `GeometryLight` and `PortalLight` are not supported (warning).
+//! and dome lights a luminaire (`ies_light.rs`, applied by the caller). `GeometryLight` and `PortalLight` are not supported (warning).
 
 use glam::{Affine3A, Vec3};
 use openusd::usd::Prim;
@@ -41,13 +42,14 @@ pub(super) enum UsdLight {
 }
 
 /// The UsdLux light types this module reads or names as unsupported.
-pub(super) const LIGHT_TYPES: [&str; 8] = [
+pub(super) const LIGHT_TYPES: [&str; 9] = [
     "RectLight",
     "DiskLight",
     "SphereLight",
     "CylinderLight",
     "DistantLight",
     "DomeLight",
+    "DomeLight_1",
     "GeometryLight",
     "PortalLight",
 ];
@@ -158,12 +160,14 @@ fn dome(
 }
 
 /// The light of the UsdLux prim `prim` of type `ty` with local-to-world transform `world`
-/// (`stage_file` anchors unresolved texture paths), and notes for warnings.
+/// (`stage_file` anchors unresolved texture paths; `z_up`: the stage's up axis is Z, for
+/// `DomeLight_1`'s `poleAxis = "scene"`), and notes for warnings.
 pub(super) fn read_light(
     prim: &Prim,
     ty: &str,
     world: &Affine3A,
     stage_file: &std::path::Path,
+    z_up: bool,
 ) -> Result<(UsdLight, Vec<String>), AttrError> {
     let name = prim.path().as_str().to_string();
     let size = |n: &str, default: f64| -> Result<f32, AttrError> {
@@ -249,6 +253,18 @@ pub(super) fn read_light(
             UsdLight::Light(LightDesc::Directional { direction: down, spectrum, scale })
         }
         "DomeLight" => dome(prim, world, spectrum, scale, stage_file, &mut notes)?,
+        "DomeLight_1" => {
+            // the pole's starting alignment: Z turns the dome itself (not its children) by 90
+            // degrees about +X, so that latitude +pi/2 is +Z and latitude 0, longitude 0 is -Y
+            let pole_z = match value::token(prim, "poleAxis")?.as_deref().unwrap_or("scene") {
+                "Y" => false,
+                "Z" => true,
+                "scene" => z_up,
+                other => return Err(("poleAxis".into(), format!("`{other}` is not scene, Y or Z"))),
+            };
+            let turn = if pole_z { Affine3A::from_rotation_x(std::f32::consts::FRAC_PI_2) } else { Affine3A::IDENTITY };
+            dome(prim, &(*world * turn), spectrum, scale, stage_file, &mut notes)?
+        }
         other => UsdLight::Skipped(format!("{other} is not a light type quasar reads")),
     };
     Ok((light, notes))

@@ -330,7 +330,8 @@ fn import_stage(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportEr
                 continue;
             }
             t if LIGHT_TYPES.contains(&t) => {
-                let (l, mut notes) = light::read_light(&prim, t, &world_q, path).map_err(|e| attr_err(path, &at, e))?;
+                let (l, mut notes) =
+                    light::read_light(&prim, t, &world_q, path, z_up).map_err(|e| attr_err(path, &at, e))?;
                 let l = ies_light::with_ies_profile(&prim, t, l, &world_q, path, &mut notes)
                     .map_err(|e| attr_err(path, &at, e))?;
                 for n in notes {
