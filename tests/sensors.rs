@@ -155,12 +155,9 @@ fn render_writes_the_sensor_csv() {
     assert!((e / want - 1.0).abs() < 0.01, "{e} vs {want}");
 }
 
-/// Cylindrical illuminance under a point light of intensity I: E_z = I sin(theta) / (pi d^2),
-/// theta from the vertical (the mean over horizontal directions of the vertical illuminance),
-/// beside the horizontal illuminance I cos(theta) / d^2 at the same place.
-#[test]
-fn cylindrical_illuminance_of_a_point_light() {
-    let toml = r#"
+/// A camera and an isotropic point light of 0.01 x 72983 cd, 2 m above the origin: the scene
+/// of the point-light meter tests (a meter at (1.5, 0, 0) sees it at sin(theta) 0.6, d^2 6.25).
+const POINT_LIGHT: &str = r#"
 [camera]
 position = [0, 0.5, 3]
 target = [0, 0.5, 0]
@@ -169,7 +166,15 @@ type = "point"
 position = [0, 2, 0]
 spectrum = { rgb = [1, 1, 1] }
 scale = 0.01
-[[sensor]]
+"#;
+
+/// Cylindrical illuminance under a point light of intensity I: E_z = I sin(theta) / (pi d^2),
+/// theta from the vertical (the mean over horizontal directions of the vertical illuminance),
+/// beside the horizontal illuminance I cos(theta) / d^2 at the same place.
+#[test]
+fn cylindrical_illuminance_of_a_point_light() {
+    let toml = &format!(
+        r#"{POINT_LIGHT}[[sensor]]
 name = "cyl"
 type = "point"
 position = [1.5, 0, 0]
@@ -180,7 +185,8 @@ name = "hor"
 type = "point"
 position = [1.5, 0, 0]
 samples = 1024
-"#;
+"#
+    );
     let r = measure(toml, &[]);
     let i = 0.01 * f64::from(LUMINANCE_PER_Y); // cd
     let (sin, cos, d2) = (0.6, 0.8, 6.25);
@@ -200,16 +206,7 @@ fn semi_cylindrical_illuminance_of_a_point_light() {
         )
     };
     let toml = format!(
-        r#"
-[camera]
-position = [0, 0.5, 3]
-target = [0, 0.5, 0]
-[[light]]
-type = "point"
-position = [0, 2, 0]
-spectrum = {{ rgb = [1, 1, 1] }}
-scale = 0.01
-{}{}{}"#,
+        "{POINT_LIGHT}{}{}{}",
         meter("towards", "[-1, 0.3, 0]"),
         meter("side", "[0, 0, 1]"),
         meter("away", "[1, 0, 0]")

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{bidir_ov, mean, pt_ov, write_scene};
+use common::{bidir_ov, mean, pt_ov};
 use quasar::film::SpectralBins;
 use quasar::materials::spectrum::cie::{CIE_Y_INTEGRAL, ybar};
 use quasar::output::ExrImage;
@@ -15,33 +15,13 @@ use quasar::render::job::{JobOverrides, write_outputs};
 const WAVELENGTHS: [f64; 7] = [360.0, 450.0, 500.0, 520.0, 600.0, 700.0, 830.0];
 const VALUES: [f64; 7] = [0.2, 1.0, 3.0, 0.0, 0.0, 2.0, 0.5];
 
-/// The camera inside a black sphere whose inner surface emits the test spectrum: every pixel
-/// sees that radiance exactly, so the only noise is the wavelength sampling's.
+/// The camera inside a black sphere whose inner surface emits the test spectrum (a furnace of
+/// albedo 0): every pixel sees that radiance exactly, so the only noise is the wavelength
+/// sampling's.
 fn emitting_sphere() -> common::TempScene {
     let list = |v: &[f64]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>().join(", ");
-    write_scene(
-        &format!(
-            r#"
-[camera]
-position = [0, 0, 0]
-target = [0, 0, -1]
-fov_deg = 60
-[materials.black]
-type = "diffuse"
-reflectance = 0
-[[shape]]
-type = "sphere"
-center = [0, 0, 0]
-radius = 1.0
-material = "black"
-flip_normals = true
-emission = {{ spectrum = {{ wavelengths = [{}], values = [{}] }}, scale = 1.0 }}
-"#,
-            list(&WAVELENGTHS),
-            list(&VALUES)
-        ),
-        &[],
-    )
+    let spectrum = format!("{{ wavelengths = [{}], values = [{}] }}", list(&WAVELENGTHS), list(&VALUES));
+    common::furnace_scene_emitting(0.0, &spectrum, 1.0, 8)
 }
 
 /// The test spectrum at `lambda` (piecewise linear).

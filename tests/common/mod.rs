@@ -54,6 +54,12 @@ pub fn layer_luminance(img: &quasar::output::ExrImage, name: &str) -> Vec<f32> {
 /// from its inner surface, in a `size` x `size` image. Its radiance is Le / (1 - a) everywhere
 /// (the geometric series of bounces).
 pub fn furnace_scene(a: f64, le: f64, size: u32) -> TempScene {
+    furnace_scene_emitting(a, "{ constant = 1.0 }", le, size)
+}
+
+/// [`furnace_scene`] whose inner surface emits `scale` times the TOML spectrum `spectrum` (an
+/// inline table such as `{ wavelengths = [...], values = [...] }`).
+pub fn furnace_scene_emitting(a: f64, spectrum: &str, scale: f64, size: u32) -> TempScene {
     write_scene(
         &format!(
             r#"
@@ -73,7 +79,7 @@ center = [0, 0, 0]
 radius = 1.0
 material = "wall"
 flip_normals = true
-emission = {{ spectrum = {{ constant = 1.0 }}, scale = {le} }}
+emission = {{ spectrum = {spectrum}, scale = {scale} }}
 "#
         ),
         &[],
