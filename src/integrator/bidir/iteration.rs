@@ -63,7 +63,7 @@ pub struct IterationResult<'s> {
     pub owners: Vec<usize>,
     /// The visibility points.
     pub points: Vec<VisibilityPoint<'s>>,
-    /// Their gather radii.
+    /// Their gather radii (the covered shares measured where photons landed, 1 elsewhere).
     pub radii: Vec<GatherRadii>,
     /// The photon pass.
     pub photons: photon_pass::PhotonPassResult,
@@ -159,16 +159,18 @@ impl Iteration {
             }
         }
         lap(&mut seconds.camera);
-        let radii: Vec<GatherRadii> = (0..points.len())
+        // the covered shares only matter where photons landed (an empty disk's estimate is 0
+        // whatever its share), so they are measured after the photon pass, for those disks only
+        let mut radii: Vec<GatherRadii> = (0..points.len())
             .into_par_iter()
             .map(|j| {
-                let (i, vp) = (owners[j], &points[j]);
-                let r = radius_of(i, vp);
-                let rc = r * settings.caustic_ratio;
-                let rotation = (mix64(self.seed ^ mix64(((self.k as u64) << 40) ^ j as u64)) >> 40) as f32
-                    * (std::f32::consts::TAU / (1u64 << 24) as f32);
-                let (ci, cc) = coverage::disk_coverage(scene, vp, r, rc, rotation);
-                GatherRadii { indirect: r, caustic: rc, indirect_coverage: ci, caustic_coverage: cc }
+                let r = radius_of(owners[j], &points[j]);
+                GatherRadii {
+                    indirect: r,
+                    caustic: r * settings.caustic_ratio,
+                    indirect_coverage: 1.0,
+                    caustic_coverage: 1.0,
+                }
             })
             .collect();
         lap(&mut seconds.coverage);
@@ -188,6 +190,13 @@ impl Iteration {
             base_rule.cone_cos,
         );
         lap(&mut seconds.photons);
+        radii.par_iter_mut().enumerate().filter(|(j, _)| photons.sums[*j].photons > 0).for_each(|(j, g)| {
+            let rotation = (mix64(self.seed ^ mix64(((self.k as u64) << 40) ^ j as u64)) >> 40) as f32
+                * (std::f32::consts::TAU / (1u64 << 24) as f32);
+            (g.indirect_coverage, g.caustic_coverage) =
+                coverage::disk_coverage(scene, &points[j], g.indirect, g.caustic, rotation);
+        });
+        lap(&mut seconds.coverage);
         IterationResult { paths, owners, points, radii, photons, grid_bytes: grid.memory_bytes(), seconds }
     }
 }
