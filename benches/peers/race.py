@@ -15,9 +15,17 @@ For every scene, in one run on one machine:
    own clock; scene loading excluded as Mitsuba's is).
 5. Every image's relMSE of the luminance Y against the reference, mean((y - r)^2 / (r^2 + 1e-3))
    (quasar compare's definition), less the reference's own expected contribution
-   mean(se_r^2 / (r^2 + 1e-3)); samples per second; and the time to reach relMSE 0.01 and 0.003,
-   extrapolated from the longest budget by relMSE ~ 1/t (the rate of every unbiased method here;
-   a method whose relMSE does not fall that way is flagged).
+   mean(se_r^2 / (r^2 + 1e-3)); samples per second; and the time to reach relMSE 0.01 and 0.003:
+   interpolated (straight in log t, log relMSE) between the two budgets whose relMSE brackets
+   the target, so give a ladder of budgets (`--budgets 1 2 4 8 16 32`); a target outside the
+   ladder is extrapolated by relMSE ~ 1/t from the nearest budget (the rate of every unbiased
+   method; not of progressive photon mapping, whose relMSE falls more slowly) and marked "~".
+6. For every quasar image, the block z-test against the reference (`quasar compare --z-test`,
+   both images' standard errors): "pass", or the share of failing blocks. A fast image that is
+   biased beyond its own error bars does not count as having reached an error.
+
+`--reuse-reference` keeps a scene's `reference.exr` from an earlier run of the same size and
+reference settings (the reference takes minutes per scene).
 
 Not part of CI (it takes minutes). Requires the Mitsuba venv of the cross-check:
 
@@ -110,11 +118,33 @@ def quasar_render(a, scene, out, method, budget=None, spp=None, seed=1):
     return y, float(meta.get("render_time_s", "nan")), meta.get("spp", meta.get("iterations", "?"))
 
 
-def time_to(target, t, err):
-    """Time to reach relMSE `target`, by relMSE ~ 1/t from the point (t, err)."""
-    if not (err > 0 and t > 0):
-        return float("nan")
-    return t * err / target
+def time_to(target, runs):
+    """Time to reach relMSE `target` from `runs` [(budget, time, samples, relMSE)], and whether it
+    was extrapolated: log-log interpolation between the first pair of consecutive budgets whose
+    relMSE brackets the target, else relMSE ~ 1/t from the budget nearest to it."""
+    pts = sorted((r[1], r[3]) for r in runs if r[1] > 0)
+    for (t0, e0), (t1, e1) in zip(pts, pts[1:]):
+        if e0 > 0 and e1 > 0 and e0 >= target >= e1:
+            if e0 == e1:
+                return t0, False
+            s = np.log(target / e0) / np.log(e1 / e0)
+            return float(np.exp(np.log(t0) + s * np.log(t1 / t0))), False
+    good = [(t, e) for (t, e) in pts if e > 0]
+    if not good:
+        return float("nan"), True
+    t, e = good[-1] if good[-1][1] > target else good[0]
+    return t * e / target, True
+
+
+def z_test(a, image, reference):
+    """`quasar compare --z-test`: "pass", or the worst scale's failing block share."""
+    p = subprocess.run([a.quasar, "compare", "--z-test", image, reference], capture_output=True, text=True)
+    if p.returncode == 0:
+        return "pass"
+    shares = re.findall(r"\(([0-9.]+)%, limit", p.stdout)
+    mean_z = re.search(r"\(z ([-+0-9.]+), limit", p.stdout)
+    worst = max((float(x) for x in shares), default=0.0)
+    return f"fail ({worst:.1f}% of blocks, mean z {mean_z.group(1) if mean_z else '?'})"
 
 
 def main():
@@ -131,6 +161,8 @@ def main():
     ap.add_argument("--ref-spp", type=int, default=16384)
     ap.add_argument("--masking-separable", action="store_true", default=True,
                     help="quasar uses Mitsuba's GGX masking form (the default here, so both render one image)")
+    ap.add_argument("--reuse-reference", action="store_true",
+                    help="keep a scene's reference.exr of an earlier run (same size and reference settings)")
     ap.add_argument("scenes", nargs="*", default=SCENES)
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
@@ -143,18 +175,21 @@ def main():
                               "--height", str(a.height), "--spp", "1"], capture_output=True, text=True)
         expressible = exp.returncode == 0
         t0 = time.time()
-        if expressible:
+        ref_path = os.path.join(d, "reference.exr")
+        if a.reuse_reference and os.path.exists(ref_path) and read_y(ref_path)[0].shape == (a.height, a.width):
+            ref, ref_se = read_y(ref_path)
+            ref_by = f"{'Mitsuba ' + a.ref_variant if expressible else 'quasar pt'} {a.ref_spp} spp, reused"
+        elif expressible:
             mi.set_variant(a.ref_variant)
             ref, ref_se = mitsuba_reference(mi.load_file(os.path.join(d, "scene.xml")), a.ref_spp)
             ref_by = f"Mitsuba {a.ref_variant} {a.ref_spp} spp"
         else:
             reason = exp.stderr.strip().splitlines()[-1].split("cannot be written for Mitsuba: ")[-1]
             print(f"{name}: Mitsuba cannot render it ({reason}); quasar methods only", file=sys.stderr)
-            out = os.path.join(d, "reference.exr")
-            quasar_render(a, scene_path, out, "pt", spp=a.ref_spp, seed=999)
-            ref, ref_se = read_y(out)
+            quasar_render(a, scene_path, ref_path, "pt", spp=a.ref_spp, seed=999)
+            ref, ref_se = read_y(ref_path)
             ref_by = f"quasar pt {a.ref_spp} spp"
-        write_exr(os.path.join(d, "reference.exr"), ref.astype(np.float32), ref_se.astype(np.float32))
+        write_exr(ref_path, ref.astype(np.float32), ref_se.astype(np.float32))
         floor = float(np.mean(ref_se ** 2 / (ref ** 2 + REL_EPS)))
         print(f"{name}: reference ({ref_by}) in {time.time() - t0:.0f} s, its own relMSE {floor:.2e}",
               file=sys.stderr)
@@ -169,12 +204,13 @@ def main():
                 spp = max(1, int(rate * b))
                 y, t = mitsuba_render(scene, spp, 7)
                 write_exr(os.path.join(d, f"mitsuba_{int(b)}s.exr"), y.astype(np.float32), np.zeros_like(y, np.float32))
-                results.setdefault(f"Mitsuba path ({a.variant})", []).append((b, t, spp, rel_mse(y, ref) - floor))
+                results.setdefault(f"Mitsuba path ({a.variant})", []).append((b, t, spp, rel_mse(y, ref) - floor, ""))
         for m in a.methods:
             for b in a.budgets:
                 out = os.path.join(d, f"{re.sub('[^A-Za-z0-9]+', '_', m)}_{int(b)}s.exr")
                 y, t, n = quasar_render(a, scene_path, out, m, budget=b)
-                results.setdefault(f"quasar {m}", []).append((b, t, n, rel_mse(y, ref) - floor))
+                z = z_test(a, out, ref_path)
+                results.setdefault(f"quasar {m}", []).append((b, t, n, rel_mse(y, ref) - floor, z))
         rows.append((name, ref_by, floor, results))
         print_scene(a, rows[-1])
     return 0
@@ -186,27 +222,23 @@ def print_scene(a, row):
     print(f"\n### {name} ({a.width}x{a.height}; reference {ref_by}, its own relMSE {floor:.1e} subtracted)\n")
     base = results.get(next((k for k in results if k.startswith("Mitsuba")), ""), None)
     head = "| renderer | " + " | ".join(f"relMSE at {b:g} s (spp)" for b in a.budgets)
-    print(head + " | samples/s | time to 0.01 | time to 0.003 | vs Mitsuba at 0.01 |")
-    print("|---" * (len(a.budgets) + 5) + "|")
+    print(head + " | samples/s | time to 0.01 | time to 0.003 | vs Mitsuba at 0.01 | z-test |")
+    print("|---" * (len(a.budgets) + 6) + "|")
     for k, runs in results.items():
-        cells = " | ".join(f"{e:.3g} ({n})" for (_, _, n, e) in runs)
-        b, t, n, e = runs[-1]
+        cells = " | ".join(f"{e:.3g} ({n})" for (_, _, n, e, _) in runs)
+        b, t, n, e, _ = runs[-1]
         try:
             sps = float(n) * pixels / t
             sps_s = f"{sps / 1e6:.2f} M"
         except ValueError:
             sps_s = "-"
-        t1, t3 = time_to(0.01, t, e), time_to(0.003, t, e)
-        flag = ""
-        if len(runs) > 1 and runs[0][3] > 0 and e > 0:
-            slope = np.log(e / runs[0][3]) / np.log(t / runs[0][1])
-            if slope > -0.8:
-                flag = f" (relMSE ~ t^{slope:.2f}: extrapolation unreliable)"
+        (t1, x1), (t3, x3) = time_to(0.01, runs), time_to(0.003, runs)
         ratio = ""
-        if base is not None:
-            bt = time_to(0.01, base[-1][1], base[-1][3])
-            ratio = f"{bt / t1:.2f}x" if t1 > 0 else ""
-        print(f"| {k} | {cells} | {sps_s} | {t1:.1f} s{flag} | {t3:.1f} s | {ratio} |")
+        if base is not None and t1 > 0:
+            ratio = f"{time_to(0.01, base)[0] / t1:.2f}x"
+        zs = sorted({z for (*_, z) in runs if z})
+        z = "pass" if zs == ["pass"] else "; ".join(f"{b:g} s: {z}" for (b, _, _, _, z) in runs if z and z != "pass")
+        print(f"| {k} | {cells} | {sps_s} | {'~' * x1}{t1:.1f} s | {'~' * x3}{t3:.1f} s | {ratio} | {z} |")
     sys.stdout.flush()
 
 
