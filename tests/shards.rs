@@ -82,6 +82,11 @@ fn merge_refuses_mismatched_renders() {
     let c = render_file(&scene(), &JobOverrides { width: Some(12), ..ov("pt", None) }).image;
     assert!(quasar::tools::merge::merge(&[a, c]).is_err());
     assert!(quasar::tools::merge::merge(&[]).is_err());
+    // another gather radius (here the automatic one's pixel footprints) changes what a sample means
+    let d = render_file(&scene(), &ov("vismap", Some((0, 2)))).image;
+    let e = render_file(&scene(), &ov("vismap", Some((1, 2))).with_param("radius_pixels", 1.5)).image;
+    assert_eq!(e.meta("radius"), Some("auto (1.5 pixel footprints)"));
+    assert!(quasar::tools::merge::merge(&[d, e]).unwrap_err().contains("radius"));
 }
 
 /// `quasar merge` refuses inputs that do not hold independent samples of one scene (issue 18):

@@ -10,7 +10,7 @@ use crate::output::ExrImage;
 use crate::render::job::{ILLUMINANCE_LX, ILLUMINANCE_STDERR_LX};
 
 /// Header keys that must agree between the merged images (they change what a sample means).
-const MUST_AGREE: [&str; 11] = [
+const MUST_AGREE: [&str; 12] = [
     "scene_fingerprint",
     "spectral_bins",
     "method",
@@ -21,6 +21,7 @@ const MUST_AGREE: [&str; 11] = [
     "photons_per_iteration",
     "gather_depth",
     "cone_deg",
+    "radius",
     "alpha",
 ];
 

@@ -72,6 +72,14 @@ pub static RADIUS: ParamSpec = ParamSpec {
     default: "automatic (3 pixel footprints, shrunk where photons are dense)",
     doc: "initial gather radius in scene units",
 };
+/// `radius_pixels`.
+pub static RADIUS_PIXELS: ParamSpec = ParamSpec {
+    key: "radius_pixels",
+    flag: "radius-pixels",
+    kind: ParamKind::Real { min: 0.01, max: 1000.0 },
+    default: "3",
+    doc: "automatic initial gather radius in pixel footprints at the first non-specular vertex (without --radius)",
+};
 /// `alpha`.
 pub static ALPHA: ParamSpec = ParamSpec {
     key: "alpha",
@@ -110,6 +118,9 @@ fn settings(r: &ParamReader, adaptive: bool, quasi: bool, spp: u32) -> Result<Vi
         v.cone_deg = Some(r.real(&CONE)?.map_or(DEFAULT_CONE_DEG, |c| c as f32));
     }
     v.radius = r.real(&RADIUS)?.map(|x| x as f32);
+    if let Some(k) = r.real(&RADIUS_PIXELS)? {
+        v.radius_pixels = k as f32;
+    }
     if let Some(a) = r.real(&ALPHA)? {
         v.alpha = a as f32;
     }
@@ -125,7 +136,7 @@ fn build<'s>(b: &Build<'s>, r: &ParamReader, adaptive: bool, quasi: bool) -> Res
 pub static VISMAP: MethodEntry = MethodEntry {
     name: "vismap",
     summary: "bidirectional stochastic ray tracing with visibility maps (Zhdanov, Ershov & Voloboy 2015): per iteration one camera path per pixel leaves a visibility point at the gather depth, photons from the lights are gathered there within progressively shrinking radii",
-    params: &[&ITERATIONS, &PHOTONS, &GATHER_DEPTH, &RADIUS, &ALPHA],
+    params: &[&ITERATIONS, &PHOTONS, &GATHER_DEPTH, &RADIUS, &RADIUS_PIXELS, &ALPHA],
     variant: Some(&GATHER_DEPTH),
     bytes_per_pixel: BIDIR_BYTES_PER_PIXEL,
     build: |b, r| build(b, r, false, false),
@@ -135,7 +146,7 @@ pub static VISMAP: MethodEntry = MethodEntry {
 pub static ADAPTIVE: MethodEntry = MethodEntry {
     name: "adaptive",
     summary: "vismap with a per-pixel gather depth: the vertex of least non-uniformity kappa (most diffuse BSDF), chosen from earlier iterations' pilot paths so that each iteration stays unbiased",
-    params: &[&ITERATIONS, &PHOTONS, &MAX_GATHER_DEPTH, &ADAPTIVE_PAPER, &RADIUS, &ALPHA],
+    params: &[&ITERATIONS, &PHOTONS, &MAX_GATHER_DEPTH, &ADAPTIVE_PAPER, &RADIUS, &RADIUS_PIXELS, &ALPHA],
     variant: Some(&ADAPTIVE_PAPER),
     bytes_per_pixel: BIDIR_BYTES_PER_PIXEL,
     build: |b, r| build(b, r, true, false),
@@ -145,7 +156,7 @@ pub static ADAPTIVE: MethodEntry = MethodEntry {
 pub static QUASI: MethodEntry = MethodEntry {
     name: "quasi",
     summary: "quasi-specular backward tracing: samples within the cone around a glossy surface's mirror or refraction direction continue the path, narrow lobes are passed through, light and photons are gathered over the rest of the sphere",
-    params: &[&ITERATIONS, &PHOTONS, &GATHER_DEPTH, &CONE, &RADIUS, &ALPHA],
+    params: &[&ITERATIONS, &PHOTONS, &GATHER_DEPTH, &CONE, &RADIUS, &RADIUS_PIXELS, &ALPHA],
     variant: Some(&CONE),
     bytes_per_pixel: BIDIR_BYTES_PER_PIXEL,
     build: |b, r| build(b, r, false, true),
@@ -155,7 +166,7 @@ pub static QUASI: MethodEntry = MethodEntry {
 pub static ADAPTIVE_QUASI: MethodEntry = MethodEntry {
     name: "adaptive+quasi",
     summary: "adaptive depth and quasi-specular tracing together (quasi-specular events do not count as depth); what auto picks for narrow or specular scenes",
-    params: &[&ITERATIONS, &PHOTONS, &MAX_GATHER_DEPTH, &ADAPTIVE_PAPER, &CONE, &RADIUS, &ALPHA],
+    params: &[&ITERATIONS, &PHOTONS, &MAX_GATHER_DEPTH, &ADAPTIVE_PAPER, &CONE, &RADIUS, &RADIUS_PIXELS, &ALPHA],
     variant: Some(&CONE),
     bytes_per_pixel: BIDIR_BYTES_PER_PIXEL,
     build: |b, r| build(b, r, true, true),
