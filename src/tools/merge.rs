@@ -101,22 +101,6 @@ pub fn merge(images: &[ExrImage]) -> Result<ExrImage, String> {
     let all_streams = check_streams(images)?;
     let counts: Vec<&[f32]> = images.iter().map(|img| img.channel("spp.Y").unwrap_or_default()).collect();
     let total: Vec<f64> = (0..n_px).map(|p| counts.iter().map(|c| c[p] as f64).sum()).collect();
-    let weighted = |name: &str| -> Vec<f64> {
-        (0..n_px)
-            .map(|p| {
-                if total[p] <= 0.0 {
-                    return 0.0;
-                }
-                let sum: f64 = images
-                    .iter()
-                    .zip(&counts)
-                    .map(|(img, n)| img.channel(name).unwrap_or_default()[p] as f64 * n[p] as f64)
-                    .sum();
-                sum / total[p]
-            })
-            .collect()
-    };
-    let mean_y = weighted("XYZ.Y");
     let spp_of = |k: usize, p: usize| counts[k][p] as f64;
     // the illuminance layer's samples: the same count at every pixel of an image
     let illuminance_n: Vec<f64> =
@@ -132,10 +116,9 @@ pub fn merge(images: &[ExrImage]) -> Result<ExrImage, String> {
             "stderr.Y" => pooled_stderr(images, &spp_of, "XYZ.Y", "stderr.Y"),
             ILLUMINANCE_LX if illuminance_counted => pooled_mean(images, &illuminance_of, ILLUMINANCE_LX),
             ILLUMINANCE_STDERR_LX => pooled_stderr(images, &illuminance_of, ILLUMINANCE_LX, ILLUMINANCE_STDERR_LX),
-            "XYZ.Y" => mean_y.iter().map(|&v| v as f32).collect(),
             name => match name.strip_prefix("stderr.block").and_then(|s| s.parse::<usize>().ok()) {
                 Some(size) if size > 0 => pooled_block_stderr(images, &counts, name, size),
-                _ => weighted(name).iter().map(|&v| v as f32).collect(),
+                _ => pooled_mean(images, &spp_of, name),
             },
         };
         channels.push(Channel { name: c.name.clone(), values });
@@ -162,12 +145,13 @@ pub fn merge(images: &[ExrImage]) -> Result<ExrImage, String> {
 /// image k at pixel p.
 fn pooled_mean(images: &[ExrImage], count: &dyn Fn(usize, usize) -> f64, mean: &str) -> Vec<f32> {
     let n_px = images[0].width * images[0].height;
+    let means: Vec<&[f32]> = images.iter().map(|img| img.channel(mean).unwrap_or_default()).collect();
     (0..n_px)
         .map(|p| {
             let (mut n, mut sum) = (0.0f64, 0.0f64);
-            for (k, img) in images.iter().enumerate() {
+            for (k, m) in means.iter().enumerate() {
                 n += count(k, p);
-                sum += count(k, p) * img.channel(mean).unwrap_or_default()[p] as f64;
+                sum += count(k, p) * m[p] as f64;
             }
             if n > 0.0 { (sum / n) as f32 } else { 0.0 }
         })
@@ -179,12 +163,14 @@ fn pooled_mean(images: &[ExrImage], count: &dyn Fn(usize, usize) -> f64, mean: &
 /// pooled sums sum y = n m and sum y^2 = (n - 1) n se^2 + n m^2.
 fn pooled_stderr(images: &[ExrImage], count: &dyn Fn(usize, usize) -> f64, mean: &str, stderr: &str) -> Vec<f32> {
     let n_px = images[0].width * images[0].height;
+    let channel =
+        |name: &str| -> Vec<&[f32]> { images.iter().map(|img| img.channel(name).unwrap_or_default()).collect() };
+    let (means, stderrs) = (channel(mean), channel(stderr));
     (0..n_px)
         .map(|p| {
             let (mut nt, mut sum, mut sq) = (0.0f64, 0.0f64, 0.0f64);
-            for (k, img) in images.iter().enumerate() {
-                let (n, m) = (count(k, p), img.channel(mean).unwrap_or_default()[p] as f64);
-                let se = img.channel(stderr).unwrap_or_default()[p] as f64;
+            for k in 0..images.len() {
+                let (n, m, se) = (count(k, p), means[k][p] as f64, stderrs[k][p] as f64);
                 nt += n;
                 sum += n * m;
                 sq += (n - 1.0).max(0.0) * n * se * se + n * m * m;
