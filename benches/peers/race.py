@@ -50,12 +50,8 @@ import numpy as np
 import OpenEXR
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tests", "crosscheck"))
+# crosscheck also points drjit at Debian's libLLVM-19.so for the llvm variants
 from crosscheck import CIE_Y_CORRECTION, write_exr  # noqa: E402
-
-# drjit looks for libLLVM.so; Debian's libllvm19 installs it as libLLVM-19.so
-for _llvm in ("/usr/lib/x86_64-linux-gnu/libLLVM-19.so", "/usr/lib/llvm-19/lib/libLLVM.so"):
-    if "DRJIT_LIBLLVM_PATH" not in os.environ and os.path.exists(_llvm):
-        os.environ["DRJIT_LIBLLVM_PATH"] = _llvm
 
 import mitsuba as mi  # noqa: E402
 

@@ -26,7 +26,13 @@ import time
 
 import numpy as np
 import OpenEXR
-import mitsuba as mi
+
+# drjit looks for libLLVM.so (the llvm variants); Debian's libllvm19 installs it as libLLVM-19.so
+for _llvm in ("/usr/lib/x86_64-linux-gnu/libLLVM-19.so", "/usr/lib/llvm-19/lib/libLLVM.so"):
+    if "DRJIT_LIBLLVM_PATH" not in os.environ and os.path.exists(_llvm):
+        os.environ["DRJIT_LIBLLVM_PATH"] = _llvm
+
+import mitsuba as mi  # noqa: E402
 
 CIE_Y_CORRECTION = 106.7502594 / 106.857
 

@@ -36,11 +36,7 @@ import numpy as np
 import OpenEXR
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from crosscheck import CIE_Y_CORRECTION, write_exr  # noqa: E402
-
-for _llvm in ("/usr/lib/x86_64-linux-gnu/libLLVM-19.so", "/usr/lib/llvm-19/lib/libLLVM.so"):
-    if "DRJIT_LIBLLVM_PATH" not in os.environ and os.path.exists(_llvm):
-        os.environ["DRJIT_LIBLLVM_PATH"] = _llvm
+from crosscheck import render_mitsuba, write_exr  # noqa: E402 (it finds libLLVM for the llvm variants)
 
 import mitsuba as mi  # noqa: E402
 
@@ -50,16 +46,16 @@ Z_LIMIT = 4.0
 
 
 def mitsuba(xml, integrator, spp, out, batches=8):
+    """Mitsuba's `integrator` on the exported scene `xml`, in `batches` independent batches
+    (crosscheck's `render_mitsuba`), written to `out`; returns the seconds it took."""
     with open(xml) as f:
         text = f.read().replace('<integrator type="path">', f'<integrator type="{integrator}">')
     path = xml.replace(".xml", f"_{integrator}.xml")
     with open(path, "w") as f:
         f.write(text)
-    scene = mi.load_file(path)
     t0 = time.time()
-    ys = np.stack([np.array(mi.render(scene, seed=100 + k, spp=max(1, spp // batches)))[:, :, 1] * CIE_Y_CORRECTION
-                   for k in range(batches)])
-    write_exr(out, ys.mean(0).astype(np.float32), (ys.std(0, ddof=1) / np.sqrt(batches)).astype(np.float32))
+    y, se, _ = render_mitsuba(path, spp, batches)
+    write_exr(out, y, se)
     return time.time() - t0
 
 
