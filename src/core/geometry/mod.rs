@@ -3,6 +3,7 @@
 pub mod accel;
 pub mod mesh;
 pub mod ray;
+mod wide_bvh;
 
 pub use accel::{Accel, Hit};
 pub use mesh::{NONE, TriangleGeom, TriangleInfo};
