@@ -151,6 +151,27 @@ impl Material {
         }
     }
 
+    /// The material as rendering should hold it: its spectra pre-sampled on the 1 nm grid
+    /// where the grid reproduces them ([`Spectrum::densified`]), everything else unchanged.
+    pub fn densified(&self) -> Self {
+        match self {
+            Material::Diffuse { reflectance, two_sided } => {
+                Material::Diffuse { reflectance: reflectance.densified(), two_sided: *two_sided }
+            }
+            Material::Conductor { alpha, fresnel, two_sided } => Material::Conductor {
+                alpha: *alpha,
+                fresnel: match fresnel {
+                    ConductorFresnel::Constant(r) => ConductorFresnel::Constant(r.densified()),
+                    ConductorFresnel::Complex { eta, k } => {
+                        ConductorFresnel::Complex { eta: eta.densified(), k: k.densified() }
+                    }
+                },
+                two_sided: *two_sided,
+            },
+            Material::Dielectric { .. } | Material::Tabulated(_) => self.clone(),
+        }
+    }
+
     /// Checks the parameters: alpha finite and >= 0; reflectances finite and within [0, 1] over
     /// 360..830 nm; conductor eta, k finite and >= 0 with |eta + i k| > 1e-4 everywhere in the
     /// range (a table that stops short is zero outside it); dielectric IOR finite and > 1e-4 at

@@ -219,7 +219,11 @@ impl Scene {
             let textured = !desc.materials[m.material].textures.is_empty();
             let emission = match &m.emission {
                 Some(e) if e.scale > 0.0 && e.scale.is_finite() => {
-                    emissions.push(Emission { spectrum: e.spectrum.clone(), scale: e.scale, two_sided: e.two_sided });
+                    emissions.push(Emission {
+                        spectrum: e.spectrum.densified(),
+                        scale: e.scale,
+                        two_sided: e.two_sided,
+                    });
                     (emissions.len() - 1) as u32
                 }
                 _ => NONE,
@@ -292,7 +296,7 @@ impl Scene {
             let lerr = |msg: &str| CompileError::Light { index, msg: msg.to_string() };
             let light = match l {
                 LightDesc::Point { position, spectrum, scale } => {
-                    Light::Point { position: *position, spectrum: spectrum.clone(), scale: *scale }
+                    Light::Point { position: *position, spectrum: spectrum.densified(), scale: *scale }
                 }
                 LightDesc::Spot { position, direction, cone_deg, falloff_start_deg, spectrum, scale } => {
                     let d = direction.normalize_or_zero();
@@ -306,7 +310,7 @@ impl Scene {
                         frame: Frame::from_z(d),
                         cos_total: total.cos(),
                         cos_falloff_start: start.cos(),
-                        spectrum: spectrum.clone(),
+                        spectrum: spectrum.densified(),
                         scale: *scale,
                     }
                 }
@@ -315,7 +319,12 @@ impl Scene {
                     if d == Vec3::ZERO || !d.is_finite() {
                         return Err(lerr("directional light direction is zero"));
                     }
-                    Light::Directional { direction: d, spectrum: spectrum.clone(), scale: *scale, scene_radius: radius }
+                    Light::Directional {
+                        direction: d,
+                        spectrum: spectrum.densified(),
+                        scale: *scale,
+                        scene_radius: radius,
+                    }
                 }
                 LightDesc::Luminaire { position, frame, web, spectrum, scale, opening } => {
                     if !position.is_finite() || !frame.is_finite() || !scale.is_finite() || *scale < 0.0 {
@@ -325,14 +334,14 @@ impl Scene {
                         *position,
                         *frame,
                         web.clone(),
-                        spectrum.clone(),
+                        spectrum.densified(),
                         *scale,
                     )
                     .with_opening(*opening);
                     Light::Luminaire(std::sync::Arc::new(l))
                 }
                 LightDesc::Environment { spectrum, scale, map } => Light::Environment {
-                    spectrum: spectrum.clone(),
+                    spectrum: spectrum.densified(),
                     scale: *scale,
                     scene_radius: radius,
                     map: map.as_ref().map(|m| std::sync::Arc::new(crate::core::env_map::EnvMap::new(m))),
@@ -344,7 +353,8 @@ impl Scene {
         let light_sampler = LightSampler::new(&lights, &emissions);
         Ok(Self {
             accel,
-            materials: desc.materials.iter().map(|m| m.material.clone()).collect(),
+            // spectra pre-sampled on the 1 nm grid (identical values to float rounding)
+            materials: desc.materials.iter().map(|m| m.material.densified()).collect(),
             material_names: desc.materials.iter().map(|m| m.name.clone()).collect(),
             non_uniformity: desc.materials.par_iter().map(|m| NonUniformity::of_material(&m.material)).collect(),
             emissions,

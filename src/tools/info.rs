@@ -115,6 +115,7 @@ pub fn describe_spectrum(s: &Spectrum) -> String {
         Spectrum::Illuminant { illuminant, .. } => format!("CIE {illuminant:?}"),
         Spectrum::RgbReflectance(r) => format!("RGB ({}, {}, {})", num(r.rgb[0]), num(r.rgb[1]), num(r.rgb[2])),
         Spectrum::RgbIlluminant { rgb, .. } => format!("RGB light ({}, {}, {})", num(rgb[0]), num(rgb[1]), num(rgb[2])),
+        Spectrum::Dense(d) => describe_spectrum(d.curve()),
     }
 }
 

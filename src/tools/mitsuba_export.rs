@@ -45,6 +45,9 @@ pub struct MitsubaScene {
 /// irregular spectra are zero outside their range, like quasar's tables), otherwise the curve
 /// at every nm of the simulated range.
 fn spectrum_value(s: &Spectrum, scale: f32) -> String {
+    if let Spectrum::Dense(d) = s {
+        return spectrum_value(d.curve(), scale);
+    }
     let mut out = String::new();
     match s {
         Spectrum::Constant(v) => {

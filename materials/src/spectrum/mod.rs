@@ -9,5 +9,6 @@ pub mod curve;
 pub mod rgb_uplift;
 pub mod sampled;
 
+pub use curve::DenseSpectrum;
 pub use curve::{RgbSpectrum, Spectrum, SpectrumError, StandardIlluminant};
-pub use sampled::{LAMBDA_MAX, LAMBDA_MIN, N_SPECTRUM_SAMPLES, SampledSpectrum, SampledWavelengths};
+pub use sampled::{GridPos, LAMBDA_MAX, LAMBDA_MIN, N_SPECTRUM_SAMPLES, SampledSpectrum, SampledWavelengths};

@@ -11,6 +11,36 @@ pub const LAMBDA_MIN: f32 = 360.0;
 /// Longest wavelength (nm) the renderer simulates.
 pub const LAMBDA_MAX: f32 = 830.0;
 
+/// Number of 1 nm cells over [LAMBDA_MIN, LAMBDA_MAX]: the grid of pre-sampled spectra
+/// ([`DenseSpectrum`](super::DenseSpectrum)).
+pub const GRID_CELLS: usize = (LAMBDA_MAX - LAMBDA_MIN) as usize;
+
+/// Where a wavelength lies on the 1 nm grid: `cell` (0..GRID_CELLS, or [`GridPos::OUTSIDE`]
+/// for a wavelength outside the grid) and the position `t` in [0, 1] within the cell.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GridPos {
+    /// Cell index, lambda in [LAMBDA_MIN + cell, LAMBDA_MIN + cell + 1].
+    pub cell: u32,
+    /// lambda - (LAMBDA_MIN + cell).
+    pub t: f32,
+}
+
+impl GridPos {
+    /// The cell of a wavelength outside [LAMBDA_MIN, LAMBDA_MAX] (or NaN).
+    pub const OUTSIDE: u32 = u32::MAX;
+
+    /// The grid position of `lambda` nm; LAMBDA_MAX is the end (t = 1) of the last cell.
+    #[inline]
+    pub fn of(lambda: f32) -> Self {
+        let x = lambda - LAMBDA_MIN;
+        if !(x >= 0.0 && x <= GRID_CELLS as f32) {
+            return Self { cell: Self::OUTSIDE, t: 0.0 };
+        }
+        let cell = (x as u32).min(GRID_CELLS as u32 - 1);
+        Self { cell, t: x - cell as f32 }
+    }
+}
+
 /// Values of a spectral quantity at the [`N_SPECTRUM_SAMPLES`] wavelengths of a [`SampledWavelengths`].
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct SampledSpectrum(pub [f32; N_SPECTRUM_SAMPLES]);
@@ -149,6 +179,8 @@ impl Mul<SampledSpectrum> for f32 {
 pub struct SampledWavelengths {
     lambda: [f32; N_SPECTRUM_SAMPLES],
     pdf: [f32; N_SPECTRUM_SAMPLES],
+    /// The wavelengths' places on the 1 nm grid of pre-sampled spectra.
+    grid: [GridPos; N_SPECTRUM_SAMPLES],
 }
 
 impl SampledWavelengths {
@@ -167,7 +199,7 @@ impl SampledWavelengths {
             }
             lambda[i] = l;
         }
-        Self { lambda, pdf: [1.0 / range; N_SPECTRUM_SAMPLES] }
+        Self::from_parts(lambda, [1.0 / range; N_SPECTRUM_SAMPLES])
     }
 
     /// Hero-wavelength sampling with density proportional to the visual importance function of
@@ -184,12 +216,18 @@ impl SampledWavelengths {
             }
             (lambda[i], pdf[i]) = visible::sample(up);
         }
-        Self { lambda, pdf }
+        Self::from_parts(lambda, pdf)
     }
 
     /// Builds wavelengths with explicit values and densities (tests, single-wavelength probes).
     pub fn from_parts(lambda: [f32; N_SPECTRUM_SAMPLES], pdf: [f32; N_SPECTRUM_SAMPLES]) -> Self {
-        Self { lambda, pdf }
+        Self { lambda, pdf, grid: lambda.map(GridPos::of) }
+    }
+
+    /// The wavelengths' places on the 1 nm grid ([`DenseSpectrum`](super::DenseSpectrum)).
+    #[inline]
+    pub fn grid(&self) -> &[GridPos; N_SPECTRUM_SAMPLES] {
+        &self.grid
     }
 
     /// Wavelength `i` in nm.
@@ -361,5 +399,15 @@ mod tests {
             .sum::<f64>()
             / n as f64;
         assert!((y - 1.0).abs() < 5e-3, "{y}");
+    }
+
+    #[test]
+    fn grid_positions_cover_the_range() {
+        assert_eq!(GridPos::of(LAMBDA_MIN), GridPos { cell: 0, t: 0.0 });
+        assert_eq!(GridPos::of(LAMBDA_MAX), GridPos { cell: GRID_CELLS as u32 - 1, t: 1.0 });
+        assert_eq!(GridPos::of(550.25), GridPos { cell: 190, t: 0.25 });
+        for l in [359.99, 830.01, f32::NAN, f32::INFINITY] {
+            assert_eq!(GridPos::of(l).cell, GridPos::OUTSIDE);
+        }
     }
 }

@@ -1,5 +1,9 @@
 //! Spectral curves: the closed set of ways a scene can specify a spectrum.
 
+mod dense;
+
+pub use dense::{DENSE_TOLERANCE, DenseSpectrum, GRID_CELLS};
+
 use super::cie;
 use super::rgb_uplift::{RgbToSpectrumTable, SigmoidPolynomial, fit_or_nearest};
 use super::sampled::{LAMBDA_MAX, LAMBDA_MIN, SampledSpectrum, SampledWavelengths};
@@ -78,6 +82,9 @@ pub enum Spectrum {
         /// Normalisation of D65 to luminance 1.
         norm: f32,
     },
+    /// Another curve pre-sampled on the 1 nm grid for rendering ([`Spectrum::densified`]): the
+    /// same values to float rounding, looked up instead of evaluated.
+    Dense(DenseSpectrum),
 }
 
 /// An RGB colour and the reflectance spectrum it was uplifted to.
@@ -277,7 +284,14 @@ impl Spectrum {
                 }
                 m * model.eval(lambda) * cie::d65(lambda) * norm
             }
+            Self::Dense(d) => d.curve().value(lambda),
         }
+    }
+
+    /// The curve as rendering should hold it: pre-sampled on the 1 nm grid where the grid
+    /// reproduces it ([`DenseSpectrum::new`]), otherwise unchanged.
+    pub fn densified(&self) -> Self {
+        DenseSpectrum::new(self).map_or_else(|| self.clone(), Self::Dense)
     }
 
     /// Values at the path's wavelengths (the variant is matched once for all of them).
@@ -285,6 +299,7 @@ impl Spectrum {
     pub fn sample(&self, wl: &SampledWavelengths) -> SampledSpectrum {
         match self {
             Self::Constant(v) => SampledSpectrum::splat(*v),
+            Self::Dense(d) => d.sample(wl),
             Self::PiecewiseLinear { lambda: ls, values } => {
                 SampledSpectrum(wl.lambdas().map(|l| piecewise_linear(ls, values, l)))
             }
@@ -298,6 +313,9 @@ impl Spectrum {
 
     /// Largest value over 360..830 nm (1 nm grid plus table knots): bounds reflectances.
     pub fn max_value(&self) -> f32 {
+        if let Self::Dense(d) = self {
+            return d.curve().max_value();
+        }
         let mut m = 0.0f32;
         let mut l = LAMBDA_MIN;
         while l <= LAMBDA_MAX {
