@@ -44,6 +44,10 @@ pub enum Light {
         tri: TriangleGeom,
         /// Index into the scene's emission table.
         emission: u32,
+        /// The triangle's area ([`TriangleGeom::area`]), computed once.
+        area: f32,
+        /// Its unit geometric normal (e1 x e2 normalised), computed once.
+        normal: Vec3,
     },
     /// Isotropic point light, intensity scale * spectrum (W/(sr nm)).
     Point {
@@ -125,6 +129,11 @@ fn smoothstep(x: f32, a: f32, b: f32) -> f32 {
 }
 
 impl Light {
+    /// The area light of triangle `tri` emitting `emission` (an index into the emission table).
+    pub fn area_triangle(tri: TriangleGeom, emission: u32) -> Self {
+        Self::Area { tri, emission, area: tri.area(), normal: tri.normal_unnormalised().normalize() }
+    }
+
     /// True for lights at infinity (seen by rays that escape the scene).
     pub fn is_infinite(&self) -> bool {
         matches!(self, Self::Directional { .. } | Self::Environment { .. })
@@ -140,10 +149,10 @@ impl Light {
     /// light that emits anything has a non-zero chance of being chosen.
     pub fn power(&self, emissions: &[Emission]) -> f64 {
         let p = match self {
-            Self::Area { tri, emission } => {
+            Self::Area { emission, area, .. } => {
                 let e = &emissions[*emission as usize];
                 let sides = if e.two_sided { 2.0 } else { 1.0 };
-                PI * sides * tri.area() * e.scale * e.spectrum.mean_value()
+                PI * sides * area * e.scale * e.spectrum.mean_value()
             }
             Self::Point { spectrum, scale, .. } => 4.0 * PI * scale * spectrum.mean_value(),
             Self::Spot { spectrum, scale, cos_total, cos_falloff_start, .. } => {
@@ -164,8 +173,8 @@ impl Light {
     /// Samples incident light at point `p` (Li, direction, solid-angle pdf).
     pub fn sample_li(&self, p: Vec3, u: Vec2, wl: &SampledWavelengths, emissions: &[Emission]) -> Option<LightSample> {
         match self {
-            Self::Area { tri, emission } => {
-                let area = tri.area();
+            Self::Area { tri, emission, area, normal } => {
+                let (area, ng) = (*area, *normal);
                 if area.is_nan() || area <= 0.0 {
                     return None;
                 }
@@ -178,7 +187,6 @@ impl Light {
                 }
                 let dist = dist2.sqrt();
                 let wi = d / dist;
-                let ng = tri.normal_unnormalised().normalize();
                 let cos_l = ng.dot(-wi).abs();
                 if cos_l <= 0.0 {
                     return None;
@@ -255,12 +263,11 @@ impl Light {
     /// Solid-angle density with which [`sample_li`](Self::sample_li) at `p` would return the
     /// direction towards the surface point `pl` with unit normal `ng` on this area light.
     pub fn pdf_li_area(&self, p: Vec3, pl: Vec3, ng: Vec3) -> f32 {
-        let Self::Area { tri, .. } = self else { return 0.0 };
-        let area = tri.area();
+        let Self::Area { area, .. } = self else { return 0.0 };
         let d = pl - p;
         let dist2 = d.length_squared();
         let cos_l = ng.dot(d).abs() / dist2.sqrt();
-        let pdf = dist2 / (cos_l * area);
+        let pdf = dist2 / (cos_l * *area);
         if pdf.is_finite() { pdf } else { 0.0 }
     }
 
@@ -314,15 +321,15 @@ impl Light {
         center: Vec3,
     ) -> Option<EmittedPhoton> {
         let photon = match self {
-            Self::Area { tri, emission } => {
+            Self::Area { tri, emission, area, normal } => {
                 let e = &emissions[*emission as usize];
-                let area = tri.area();
+                let area = *area;
                 if area.is_nan() || area <= 0.0 {
                     return None;
                 }
                 let (b1, b2) = sampling::uniform_triangle(u_pos);
                 let (p, p_err) = tri.point_with_error(b1, b2);
-                let mut ng = tri.normal_unnormalised().normalize();
+                let mut ng = *normal;
                 // two-sided: the side is chosen by the first direction number, reused in [0, 1)
                 let mut u = u_dir;
                 let mut sides = 1.0;
@@ -439,7 +446,7 @@ mod tests {
             assert!(t.normal_unnormalised().y < 0.0);
         }
         let em = [Emission { spectrum: Spectrum::Constant(1.0), scale: 1.0, two_sided: false }];
-        let lights = [Light::Area { tri: tris[0], emission: 0 }, Light::Area { tri: tris[1], emission: 0 }];
+        let lights = [Light::area_triangle(tris[0], 0), Light::area_triangle(tris[1], 0)];
         let sampler = LightSampler::new(&lights, &em);
         let wl = SampledWavelengths::sample_uniform(0.3);
         let n = 200_000;

@@ -272,7 +272,7 @@ impl Scene {
                 let mut light = NONE;
                 if emission != NONE {
                     light = lights.len() as u32;
-                    lights.push(Light::Area { tri: TriangleGeom::new(v[0], v[1], v[2]), emission });
+                    lights.push(Light::area_triangle(TriangleGeom::new(v[0], v[1], v[2]), emission));
                 }
                 tris.push(v);
                 infos.push(TriangleInfo {
@@ -391,7 +391,7 @@ impl Scene {
     fn geometry(&self, h: &Hit) -> GeometricHit {
         let g = &self.accel.geom[h.prim as usize];
         let (p, p_err) = g.point_with_error(h.b1, h.b2);
-        GeometricHit { p, p_err, ng: g.normal_unnormalised().normalize_or_zero(), t: h.t }
+        GeometricHit { p, p_err, ng: Vec3::from(g.n), t: h.t }
     }
 
     /// True when the segment of `ray` up to `t_max` is blocked.

@@ -9,8 +9,8 @@ pub use blocks::{BLOCK_BASE, BlockBatches, BlockLevel, block_sizes};
 pub use layers::{LayeredRadiance, PathClass};
 pub use spectral::{MAX_SPECTRAL_BINS, SpectralBins, SpectralSums};
 
-use quasar_materials::spectrum::SampledWavelengths;
 use quasar_materials::spectrum::color::xyz_to_linear_srgb;
+use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
 use rayon::iter::Either;
 use rayon::prelude::*;
 
@@ -99,7 +99,9 @@ impl PixelSum {
     /// counted), so no NaN/inf can reach a pixel.
     #[inline]
     pub fn add(&mut self, l: &LayeredRadiance, wl: &SampledWavelengths) -> [f64; N_QUANTITIES] {
-        let layers = [wl.to_xyz(l.emission), wl.to_xyz(l.direct), wl.to_xyz(l.indirect), wl.to_xyz(l.caustic)];
+        let w = wl.xyz_weights();
+        let xyz = |s: SampledSpectrum| if s.is_black() { [0.0; 3] } else { w.apply(s) };
+        let layers = [xyz(l.emission), xyz(l.direct), xyz(l.indirect), xyz(l.caustic)];
         self.samples += 1;
         if layers.iter().flatten().any(|v| !v.is_finite()) {
             self.rejected += 1;

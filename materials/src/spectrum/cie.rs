@@ -45,6 +45,38 @@ pub fn cmf(lambda: f32) -> [f32; 3] {
     [0, 1, 2].map(|k| a[k] * (1.0 - t) + b[k] * t)
 }
 
+/// (xbar, ybar, zbar) at every whole nanometre of 360..=830 nm (the 5 nm tables' linear
+/// interpolation there), so that within a 1 nm cell the colour-matching functions are the linear
+/// interpolation of two entries ([`cmf_at`]).
+const CMF_NM: [[f32; 3]; 471] = {
+    let mut t = [[0.0; 3]; 471];
+    let mut k = 0;
+    while k < t.len() {
+        let (i, r) = (k / 5, k % 5);
+        let f = r as f32 / 5.0;
+        let mut c = 0;
+        while c < 3 {
+            t[k][c] = if r == 0 { CMF_XYZ[i][c] } else { CMF_XYZ[i][c] * (1.0 - f) + CMF_XYZ[i + 1][c] * f };
+            c += 1;
+        }
+        k += 1;
+    }
+    t
+};
+
+/// (xbar, ybar, zbar) at 360 + `cell` + `t` nm (a wavelength's place on the 1 nm grid,
+/// `GridPos`): [`cmf`] to rounding, by one linear interpolation between two whole nanometres; 0
+/// for a cell outside the grid.
+#[inline]
+pub fn cmf_at(cell: u32, t: f32) -> [f32; 3] {
+    let k = cell as usize;
+    if k + 1 >= CMF_NM.len() {
+        return [0.0; 3];
+    }
+    let (a, b) = (CMF_NM[k], CMF_NM[k + 1]);
+    [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])]
+}
+
 /// ybar at `lambda` nm (the photopic luminous efficiency V(lambda)).
 #[inline]
 pub fn ybar(lambda: f32) -> f32 {
@@ -98,5 +130,21 @@ mod tests {
     fn d65_is_100_at_560() {
         assert!((d65(560.0) - 100.0).abs() < 1e-3);
         assert_eq!(d65(200.0), 0.0);
+    }
+
+    #[test]
+    fn grid_colour_matching_is_the_table_interpolation() {
+        let mut l = 360.0f32;
+        while l <= 830.0 {
+            let x = l - 360.0;
+            let cell = (x as u32).min(469);
+            let (a, b) = (cmf(l), cmf_at(cell, x - cell as f32));
+            for k in 0..3 {
+                // rounding of two interpolations: about 1e-7 of the neighbouring table values
+                assert!((a[k] - b[k]).abs() <= 5e-8 + 1e-6 * a[k].abs(), "{l} nm: {a:?} vs {b:?}");
+            }
+            l += 0.173;
+        }
+        assert_eq!(cmf_at(u32::MAX, 0.0), [0.0; 3]);
     }
 }

@@ -11,4 +11,6 @@ pub mod sampled;
 
 pub use curve::DenseSpectrum;
 pub use curve::{RgbSpectrum, Spectrum, SpectrumError, StandardIlluminant};
-pub use sampled::{GridPos, LAMBDA_MAX, LAMBDA_MIN, N_SPECTRUM_SAMPLES, SampledSpectrum, SampledWavelengths};
+pub use sampled::{
+    GridPos, LAMBDA_MAX, LAMBDA_MIN, N_SPECTRUM_SAMPLES, SampledSpectrum, SampledWavelengths, XyzWeights,
+};

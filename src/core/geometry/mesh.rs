@@ -11,12 +11,16 @@ pub struct TriangleGeom {
     pub e1: Vec3A,
     /// v2 - v0.
     pub e2: Vec3A,
+    /// Unit geometric normal, e1 x e2 normalised (zero for a degenerate triangle), computed
+    /// once so that a hit does not normalise it.
+    pub n: Vec3A,
 }
 
 impl TriangleGeom {
     /// From three vertices.
     pub fn new(v0: Vec3, v1: Vec3, v2: Vec3) -> Self {
-        Self { v0: v0.into(), e1: (v1 - v0).into(), e2: (v2 - v0).into() }
+        let (e1, e2) = (Vec3A::from(v1 - v0), Vec3A::from(v2 - v0));
+        Self { v0: v0.into(), e1, e2, n: Vec3A::from(Vec3::from(e1.cross(e2)).normalize_or_zero()) }
     }
 
     /// Moeller-Trumbore: returns (t, b1, b2) for a hit with t in (t_min, t_max). Edge tests are

@@ -148,6 +148,24 @@ pub(crate) fn build(tris: &[[Vec3; 3]], scale: f32, mut params: BvhBuildParams) 
                 let k = kids.swap_remove(i);
                 kids.extend(children(k));
             }
+            // free slots: split a small subtree (one packet's worth) into its two halves when
+            // their boxes are smaller than the whole's (two walls of a room in one leaf have a
+            // box as large as the room), largest saving first
+            while kids.len() < 4 {
+                let saving = |k: usize| {
+                    let [a, b] = children(k);
+                    bounds[k].half_area() - bounds[a].half_area() - bounds[b].half_area()
+                };
+                let open = kids
+                    .iter()
+                    .enumerate()
+                    .filter(|&(_, &k)| nodes2[k].prim_count == 0 && saving(k) > 0.0)
+                    .max_by(|a, b| saving(*a.1).total_cmp(&saving(*b.1)))
+                    .map(|(i, _)| i);
+                let Some(i) = open else { break };
+                let k = kids.swap_remove(i);
+                kids.extend(children(k));
+            }
             let index = out.nodes.len();
             let (mut lo, mut hi) = ([[f32::INFINITY; 4]; 3], [[f32::NEG_INFINITY; 4]; 3]);
             for (c, &k) in kids.iter().enumerate() {

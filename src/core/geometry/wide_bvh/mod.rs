@@ -54,7 +54,7 @@ pub(super) struct Node4 {
 }
 
 /// Entries of the traversal stack that fit the common case without a heap allocation.
-const STACK: usize = 128;
+const STACK: usize = 256;
 
 /// The per-ray constants of the slab test: origin and (clamped) inverse direction per axis,
 /// and which bound is the near one on each axis.
@@ -162,28 +162,26 @@ impl WideBvh {
                         link = node.link[first];
                         continue;
                     }
-                    // two to four children: the nearest is visited next, the others are pushed
-                    // farthest first (insertion sort of at most four entries)
-                    let mut order = [(node.link[first], t_near[first]); 4];
-                    let mut n = 1;
-                    while mask != 0 {
-                        let k = mask.trailing_zeros() as usize;
-                        mask &= mask - 1;
+                    // two to four children: inserted above the stack's top in order of
+                    // decreasing distance (insertion sort), so the nearest is popped next
+                    let base = sp;
+                    let mut k = first;
+                    loop {
                         let e = (node.link[k], t_near[k]);
-                        let mut j = n;
-                        while j > 0 && order[j - 1].1 < e.1 {
-                            order[j] = order[j - 1];
+                        let mut j = sp;
+                        // SAFETY (both reads): base <= j - 1 < sp, entries written above
+                        while j > base && unsafe { stack[j - 1].assume_init_read() }.1 < e.1 {
+                            stack[j] = stack[j - 1];
                             j -= 1;
                         }
-                        order[j] = e;
-                        n += 1;
-                    }
-                    for e in &order[..n - 1] {
-                        stack[sp].write(*e);
+                        stack[j].write(e);
                         sp += 1;
+                        if mask == 0 {
+                            break;
+                        }
+                        k = mask.trailing_zeros() as usize;
+                        mask &= mask - 1;
                     }
-                    link = order[n - 1].0;
-                    continue;
                 }
             } else {
                 for p in &self.packets[leaf_range(link)] {

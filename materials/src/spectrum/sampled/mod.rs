@@ -11,6 +11,17 @@ pub const LAMBDA_MIN: f32 = 360.0;
 /// Longest wavelength (nm) the renderer simulates.
 pub const LAMBDA_MAX: f32 = 830.0;
 
+/// floor(x) as an index, at most `last`, for x in [0, 2^24] (checked by the callers): the
+/// conversion without the saturating checks of `as`, which cost more than the look-ups they
+/// serve on the per-sample path.
+#[inline(always)]
+pub(crate) fn floor_index(x: f32, last: usize) -> usize {
+    debug_assert!((0.0..=16_777_216.0).contains(&x));
+    // SAFETY: x is finite and within [0, 2^24], so its truncation fits an i32
+    let i = unsafe { x.to_int_unchecked::<i32>() } as usize;
+    i.min(last)
+}
+
 /// Number of 1 nm cells over [LAMBDA_MIN, LAMBDA_MAX]: the grid of pre-sampled spectra
 /// ([`DenseSpectrum`](super::DenseSpectrum)).
 pub const GRID_CELLS: usize = (LAMBDA_MAX - LAMBDA_MIN) as usize;
@@ -36,7 +47,7 @@ impl GridPos {
         if !(x >= 0.0 && x <= GRID_CELLS as f32) {
             return Self { cell: Self::OUTSIDE, t: 0.0 };
         }
-        let cell = (x as u32).min(GRID_CELLS as u32 - 1);
+        let cell = floor_index(x, GRID_CELLS - 1) as u32;
         Self { cell, t: x - cell as f32 }
     }
 }
@@ -202,21 +213,24 @@ impl SampledWavelengths {
         Self::from_parts(lambda, [1.0 / range; N_SPECTRUM_SAMPLES])
     }
 
-    /// Hero-wavelength sampling with density proportional to the visual importance function of
+    /// Hero-wavelength sampling with density (close to) the visual importance function of
     /// pbrt-v4 (sec. 4.6.5), p(lambda) ~ 1 / cosh^2(0.0072 (lambda - 538)), restricted to
-    /// [LAMBDA_MIN, LAMBDA_MAX]. The rotations are taken in the CDF domain (u + i/4 mod 1), so the
+    /// [LAMBDA_MIN, LAMBDA_MAX] (a tabulated inverse CDF, see `visible`). The rotations are taken in the CDF domain (u + i/4 mod 1), so the
     /// four wavelengths are stratified in the importance measure and each has the same marginal pdf.
     pub fn sample_visible(u: f32) -> Self {
         let mut lambda = [0.0; N_SPECTRUM_SAMPLES];
         let mut pdf = [0.0; N_SPECTRUM_SAMPLES];
+        let mut grid = [GridPos { cell: 0, t: 0.0 }; N_SPECTRUM_SAMPLES];
+        let table = visible::table();
         for i in 0..N_SPECTRUM_SAMPLES {
             let mut up = u + i as f32 / N_SPECTRUM_SAMPLES as f32;
             if up >= 1.0 {
                 up -= 1.0;
             }
-            (lambda[i], pdf[i]) = visible::sample(up);
+            (lambda[i], pdf[i]) = table.sample(up);
+            grid[i] = GridPos::of(lambda[i]);
         }
-        Self::from_parts(lambda, pdf)
+        Self { lambda, pdf, grid }
     }
 
     /// Builds wavelengths with explicit values and densities (tests, single-wavelength probes).
@@ -271,19 +285,23 @@ impl SampledWavelengths {
     /// spectrally flat radiance of 1 gives Y = 1:
     /// XYZ = (1/N) sum_i L(lambda_i) cmf(lambda_i) / p(lambda_i) / integral(ybar).
     pub fn to_xyz(&self, l: SampledSpectrum) -> [f32; 3] {
-        let mut xyz = [0.0f32; 3];
-        for i in 0..N_SPECTRUM_SAMPLES {
-            if self.pdf[i] == 0.0 || l.0[i] == 0.0 {
-                continue;
-            }
-            let w = l.0[i] / self.pdf[i];
-            let [x, y, z] = cie::cmf(self.lambda[i]);
-            xyz[0] += w * x;
-            xyz[1] += w * y;
-            xyz[2] += w * z;
-        }
+        self.xyz_weights().apply(l)
+    }
+
+    /// The per-wavelength factors of [`to_xyz`](Self::to_xyz), to convert several estimates at
+    /// these wavelengths (a sample's layers) with one colour-matching look-up per wavelength.
+    pub fn xyz_weights(&self) -> XyzWeights {
         let norm = 1.0 / (N_SPECTRUM_SAMPLES as f32 * cie::CIE_Y_INTEGRAL);
-        xyz.map(|v| v * norm)
+        let lanes = if self.secondary_terminated() { 1 } else { N_SPECTRUM_SAMPLES };
+        let mut w = [[0.0; 3]; N_SPECTRUM_SAMPLES];
+        for ((w, &pdf), g) in w.iter_mut().zip(&self.pdf).zip(&self.grid).take(lanes) {
+            if pdf > 0.0 {
+                let [x, y, z] = cie::cmf_at(g.cell, g.t);
+                let f = norm / pdf;
+                *w = [x * f, y * f, z * f];
+            }
+        }
+        XyzWeights { w, lanes }
     }
 
     /// Luminance Y only (same normalisation as [`to_xyz`](Self::to_xyz)).
@@ -292,62 +310,31 @@ impl SampledWavelengths {
     }
 }
 
-/// The visual importance density used by [`SampledWavelengths::sample_visible`].
-///
-/// p(lambda) = sech^2(A (lambda - C)) / N with N = (tanh(A (LAMBDA_MAX - C)) - tanh(A (LAMBDA_MIN - C))) / A.
-/// The CDF is (tanh(A (lambda - C)) - T0) / (A N), so sampling is lambda = C + atanh(t) / A for
-/// t = T0 + u (T1 - T0), and the density there is (1 - t^2) / N: one logarithm per wavelength
-/// (atanh), the end points T0, T1 and N folded into constants.
-mod visible {
-    use super::{LAMBDA_MAX, LAMBDA_MIN};
-    const A: f32 = 0.0072;
-    const C: f32 = 538.0;
-    /// tanh(A (LAMBDA_MIN - C)) = tanh(-1.2816), to f32 precision (checked by a test).
-    const T0: f32 = -0.856_910_6;
-    /// tanh(A (LAMBDA_MAX - C)) = tanh(2.1024), to f32 precision (checked by a test).
-    const T1: f32 = 0.970_591_35;
-    /// The normalisation N = (T1 - T0) / A (nm).
-    const NORM: f32 = (T1 - T0) / A;
+/// cmf(lambda_i) / (N p(lambda_i) integral(ybar)) per wavelength: XYZ = sum_i L(lambda_i)
+/// weight_i over the wavelengths still carried ([`SampledWavelengths::xyz_weights`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct XyzWeights {
+    w: [[f32; 3]; N_SPECTRUM_SAMPLES],
+    /// 1 after the secondaries were terminated (their values are ignored, whatever they hold),
+    /// else all.
+    lanes: usize,
+}
 
-    /// Density (1/nm) at `lambda`; 0 outside [LAMBDA_MIN, LAMBDA_MAX].
-    #[cfg_attr(not(test), allow(dead_code))]
-    pub fn pdf(lambda: f32) -> f32 {
-        if !(LAMBDA_MIN..=LAMBDA_MAX).contains(&lambda) {
-            return 0.0;
-        }
-        let t = (A * (lambda - C)).tanh();
-        (1.0 - t * t) / NORM
-    }
-
-    /// Inverse-CDF sample and its density: (lambda, p(lambda)).
+impl XyzWeights {
+    /// The XYZ of the estimate `l`.
     #[inline]
-    pub fn sample(u: f32) -> (f32, f32) {
-        let t = T0 + u.clamp(0.0, 1.0) * (T1 - T0);
-        // atanh(t) = 0.5 ln((1 + t) / (1 - t)); |t| <= T1 < 1
-        let lambda = (C + 0.5 * ((1.0 + t) / (1.0 - t)).ln() / A).clamp(LAMBDA_MIN, LAMBDA_MAX);
-        (lambda, (1.0 - t * t) / NORM)
-    }
-
-    #[cfg(test)]
-    mod tests {
-        use super::*;
-
-        #[test]
-        fn folded_constants_match_their_definition() {
-            assert!((T0 - (A * (LAMBDA_MIN - C)).tanh()).abs() < 1e-6);
-            assert!((T1 - (A * (LAMBDA_MAX - C)).tanh()).abs() < 1e-6);
-        }
-
-        #[test]
-        fn sampled_density_is_the_density_at_the_sample() {
-            for k in 0..=1000 {
-                let (l, p) = sample(k as f32 / 1000.0);
-                assert!((LAMBDA_MIN..=LAMBDA_MAX).contains(&l));
-                assert!((p - pdf(l)).abs() <= 1e-4 * p, "{l}: {p} vs {}", pdf(l));
+    pub fn apply(&self, l: SampledSpectrum) -> [f32; 3] {
+        let mut xyz = [0.0f32; 3];
+        for (w, &v) in self.w.iter().zip(&l.0).take(self.lanes) {
+            for (c, wk) in xyz.iter_mut().zip(w) {
+                *c += v * wk;
             }
         }
+        xyz
     }
 }
+
+mod visible;
 
 #[cfg(test)]
 mod tests {
@@ -367,7 +354,7 @@ mod tests {
     fn visible_pdf_integrates_to_one() {
         let n = 10_000;
         let h = (LAMBDA_MAX - LAMBDA_MIN) / n as f32;
-        let s: f32 = (0..n).map(|i| visible::pdf(LAMBDA_MIN + (i as f32 + 0.5) * h) * h).sum();
+        let s: f32 = (0..n).map(|i| visible::target_pdf(LAMBDA_MIN + (i as f32 + 0.5) * h) * h).sum();
         assert!((s - 1.0).abs() < 1e-3, "{s}");
     }
 
