@@ -167,7 +167,9 @@ pub(crate) fn build(tris: &[[Vec3; 3]], scale: f32, mut params: BvhBuildParams) 
                 kids.extend(children(k));
             }
             let index = out.nodes.len();
-            let (mut lo, mut hi) = ([[f32::INFINITY; 4]; 3], [[f32::NEG_INFINITY; 4]; 3]);
+            // an unused slot is a point at +infinity, which the slab test rejects for every ray
+            // (the traversal's t_max is finite)
+            let (mut lo, mut hi) = ([[f32::INFINITY; 4]; 3], [[f32::INFINITY; 4]; 3]);
             for (c, &k) in kids.iter().enumerate() {
                 for axis in 0..3 {
                     lo[axis][c] = bounds[k].lo[axis];

@@ -46,22 +46,25 @@ fn leaf_range(link: Link) -> std::ops::Range<usize> {
 }
 
 /// An inner node: the bounds of four children (lo x, lo y, lo z, hi x, hi y, hi z, one lane per
-/// child; an unused slot has lo = +inf and hi = -inf, which no ray enters) and their links.
+/// child; an unused slot has lo = hi = +inf, which no ray enters) and their links.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Node4 {
     bounds: [f32x4; 6],
     link: [Link; 4],
 }
 
+/// The largest ray distance traversed: finite even after the slab test's conservative
+/// enlargement (which an unused slot needs, see [`SlabRay::enter`]), and far beyond any scene
+/// (coordinates are at most `MAX_COORDINATE` = 1e15).
+const T_LIMIT: f32 = 1e38;
+
 /// Entries of the traversal stack that fit the common case without a heap allocation.
 const STACK: usize = 256;
 
-/// The per-ray constants of the slab test: origin and (clamped) inverse direction per axis,
-/// and which bound is the near one on each axis.
+/// The per-ray constants of the slab test: origin and (clamped) inverse direction per axis.
 struct SlabRay {
     o: [f32x4; 3],
     inv: [f32x4; 3],
-    near: [usize; 3],
 }
 
 impl SlabRay {
@@ -69,25 +72,24 @@ impl SlabRay {
     fn new(o: Vec3A, d: Vec3A) -> Self {
         // a zero or tiny component would make (bound - o) * inv a NaN (0 * inf); +-1e-30 keeps
         // the product finite or a correctly signed infinity
-        let inv = |c: f32| 1.0 / if c.abs() < 1e-30 { 1e-30f32.copysign(c) } else { c };
-        let (ix, iy, iz) = (inv(d.x), inv(d.y), inv(d.z));
-        let near = |i: f32, axis: usize| if i < 0.0 { axis + 3 } else { axis };
+        let tiny = Vec3A::splat(1e-30);
+        let inv = Vec3A::ONE / Vec3A::select(d.abs().cmplt(tiny), tiny.copysign(d), d);
         Self {
             o: [f32x4::splat(o.x), f32x4::splat(o.y), f32x4::splat(o.z)],
-            inv: [f32x4::splat(ix), f32x4::splat(iy), f32x4::splat(iz)],
-            near: [near(ix, 0), near(iy, 1), near(iz, 2)],
+            inv: [f32x4::splat(inv.x), f32x4::splat(inv.y), f32x4::splat(inv.z)],
         }
     }
 
     /// The children of `node` the ray enters at t in [0, t_max] (bit mask) and their entry
-    /// distances.
+    /// distances. `t_max` must be finite: an unused slot (a point at +infinity) is then never
+    /// entered (its entry distance is +infinity on an axis the ray travels up, and its exit
+    /// distance -infinity when it travels down on every axis).
     #[inline(always)]
     fn enter(&self, node: &Node4, t_max: f32) -> (u32, f32x4) {
         let b = &node.bounds;
         let slab = |axis: usize| {
-            let n = self.near[axis];
-            let f = (n + 3) % 6;
-            ((b[n] - self.o[axis]) * self.inv[axis], (b[f] - self.o[axis]) * self.inv[axis])
+            let (t0, t1) = ((b[axis] - self.o[axis]) * self.inv[axis], (b[axis + 3] - self.o[axis]) * self.inv[axis]);
+            (t0.fast_min(t1), t0.fast_max(t1))
         };
         let ((nx, fx), (ny, fy), (nz, fz)) = (slab(0), slab(1), slab(2));
         let t_near = nx.fast_max(ny).fast_max(nz.fast_max(f32x4::ZERO));
@@ -146,7 +148,7 @@ impl WideBvh {
     ) -> Option<(u32, f32, f32, f32)> {
         let lanes = RayLanes::new(o, d);
         let slabs = SlabRay::new(o, d);
-        let mut best_t = t_max;
+        let mut best_t = t_max.min(T_LIMIT);
         let mut best = None;
         let mut sp = 0usize;
         let mut link = self.root;
@@ -211,6 +213,7 @@ impl WideBvh {
     fn any(&self, o: Vec3A, d: Vec3A, t_max: f32, stack: &mut [MaybeUninit<Link>]) -> bool {
         let lanes = RayLanes::new(o, d);
         let slabs = SlabRay::new(o, d);
+        let t_max = t_max.min(T_LIMIT);
         let mut sp = 0usize;
         let mut link = self.root;
         loop {
