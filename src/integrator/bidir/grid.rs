@@ -34,9 +34,25 @@ impl VisibilityGrid {
     /// points with a radius that is not finite and > 0 are left out. Deterministic: entries of
     /// a bucket are in point order.
     pub fn build(points: &[(Vec3, f32)]) -> Self {
+        let mut grid = Self::empty();
+        grid.rebuild(points);
+        grid
+    }
+
+    /// A grid over no points.
+    pub fn empty() -> Self {
+        Self { origin: Vec3::ZERO, inv_cell: 1.0, mask: 0, starts: vec![0, 0], entries: Vec::new() }
+    }
+
+    /// [`build`](Self::build) into this grid's tables (an iteration reuses the last one's).
+    pub fn rebuild(&mut self, points: &[(Vec3, f32)]) {
         let mut radii: Vec<f32> = points.iter().map(|p| p.1).filter(|r| r.is_finite() && *r > 0.0).collect();
         if radii.is_empty() {
-            return Self { origin: Vec3::ZERO, inv_cell: 1.0, mask: 0, starts: vec![0, 0], entries: Vec::new() };
+            (self.origin, self.inv_cell, self.mask) = (Vec3::ZERO, 1.0, 0);
+            self.starts.clear();
+            self.starts.extend([0, 0]);
+            self.entries.clear();
+            return;
         }
         let mid = radii.len() / 2;
         let median = *radii.select_nth_unstable_by(mid, f32::total_cmp).1;
@@ -81,21 +97,29 @@ impl VisibilityGrid {
                 pairs
             })
             .collect();
-        // counting sort by bucket, stable in point order
-        let mut starts = vec![0u32; buckets as usize + 1];
+        // counting sort by bucket, stable in point order (`starts` counts, then fills)
+        let starts = &mut self.starts;
+        starts.clear();
+        starts.resize(buckets as usize + 1, 0);
         for &(bk, _) in chunks.iter().flatten() {
             starts[bk as usize + 1] += 1;
         }
         for k in 0..buckets as usize {
             starts[k + 1] += starts[k];
         }
-        let mut fill = starts.clone();
-        let mut entries = vec![0u32; starts[buckets as usize] as usize];
+        self.entries.clear();
+        self.entries.resize(starts[buckets as usize] as usize, 0);
         for &(bk, i) in chunks.iter().flatten() {
-            entries[fill[bk as usize] as usize] = i;
-            fill[bk as usize] += 1;
+            let fill = &mut starts[bk as usize];
+            self.entries[*fill as usize] = i;
+            *fill += 1;
         }
-        Self { origin: lo, inv_cell, mask, starts, entries }
+        // each bucket's fill ended at the next one's start: shift back
+        for k in (1..=buckets as usize).rev() {
+            starts[k] = starts[k - 1];
+        }
+        starts[0] = 0;
+        (self.origin, self.inv_cell, self.mask) = (lo, inv_cell, mask);
     }
 
     /// Indices of the points whose cells include the cell of `p` (a superset of the points

@@ -34,6 +34,9 @@ pub fn iteration_wavelength_u(seed: u64, k: u32) -> f32 {
     ((offset + k as f64 * 0.618_033_988_749_894_8).fract()) as f32
 }
 
+/// Pixels whose camera paths one task traces into one list of visibility points.
+const CAMERA_BATCH: usize = 256;
+
 /// Photons a gather disk should hold in an iteration: the automatic radius is shrunk (never
 /// grown) until the pilot pass's photon density puts this many photons in it.
 pub const RADIUS_PILOT_PHOTONS: f32 = 8.0;
@@ -55,10 +58,11 @@ pub struct Iteration {
     pub n_photons: u64,
 }
 
-/// What [`Iteration::run`] produced.
+/// What [`Iteration::run`] produced. A render keeps one and hands it to every iteration, which
+/// refills its lists in place: an iteration allocates no image-sized storage of its own.
 pub struct IterationResult<'s> {
     /// One camera path per pixel.
-    pub paths: Vec<CameraPathResult<'s>>,
+    pub paths: Vec<CameraPathResult>,
     /// The pixel of every visibility point.
     pub owners: Vec<usize>,
     /// The visibility points.
@@ -71,6 +75,34 @@ pub struct IterationResult<'s> {
     pub grid_bytes: usize,
     /// Wall-clock seconds of each phase.
     pub seconds: PhaseSeconds,
+    /// The wavelengths of each visibility point's path.
+    point_wl: Vec<SampledWavelengths>,
+    /// The grid's input: point positions and radii.
+    grid_input: Vec<(glam::Vec3, f32)>,
+    grid: VisibilityGrid,
+    /// Every pixel's estimate ([`estimates`](Self::estimates)).
+    estimates: Vec<(LayeredRadiance, SampledWavelengths)>,
+    /// Where each pixel's points start in `points` (one more entry than pixels).
+    first_point: Vec<usize>,
+}
+
+impl Default for IterationResult<'_> {
+    fn default() -> Self {
+        Self {
+            paths: Vec::new(),
+            owners: Vec::new(),
+            points: Vec::new(),
+            radii: Vec::new(),
+            photons: photon_pass::PhotonPassResult { sums: Vec::new(), lookups: 0 },
+            grid_bytes: 0,
+            seconds: PhaseSeconds::default(),
+            point_wl: Vec::new(),
+            grid_input: Vec::new(),
+            grid: VisibilityGrid::empty(),
+            estimates: Vec::new(),
+            first_point: Vec::new(),
+        }
+    }
 }
 
 /// Wall-clock seconds of the phases of bidirectional iterations (summed over iterations): what
@@ -121,7 +153,8 @@ impl PhaseSeconds {
 impl Iteration {
     /// Traces one camera path per pixel at gather depths `depths`, gives every visibility
     /// point the indirect radius `radius_of(pixel, point)` (caustic radius: the settings' ratio
-    /// of it) and gathers the iteration's photons.
+    /// of it) and gathers the iteration's photons, into `out` (whose lists are reused).
+    #[allow(clippy::too_many_arguments)]
     pub fn run<'s>(
         &self,
         scene: &'s Scene,
@@ -130,7 +163,8 @@ impl Iteration {
         base_rule: &GatherRule,
         depths: &[Option<u32>],
         radius_of: impl Fn(usize, &VisibilityPoint) -> f32 + Sync,
-    ) -> IterationResult<'s> {
+        out: &mut IterationResult<'s>,
+    ) {
         let w = camera.width() as usize;
         let mut seconds = PhaseSeconds::default();
         let mut clock = Instant::now();
@@ -139,29 +173,47 @@ impl Iteration {
             *phase += (now - clock).as_secs_f64();
             clock = now;
         };
-        let paths: Vec<CameraPathResult> = (0..depths.len())
+        // batches of pixels, each with one list of visibility points, joined in pixel order
+        let batches: Vec<(Vec<CameraPathResult>, Vec<VisibilityPoint>)> = (0..depths.len().div_ceil(CAMERA_BATCH))
             .into_par_iter()
-            .map(|i| {
-                let mut sampler = Sampler::new(self.seed, i as u64, self.k as u64);
-                let film_pos = Vec2::new((i % w) as f32, (i / w) as f32) + sampler.get_2d();
-                let rule = GatherRule { depth: depths[i].unwrap_or(0), ..*base_rule };
-                trace_camera_path(scene, camera.ray(film_pos), self.wl, &mut sampler, &rule)
+            .map(|b| {
+                let pixels = b * CAMERA_BATCH..((b + 1) * CAMERA_BATCH).min(depths.len());
+                let mut paths = Vec::with_capacity(pixels.len());
+                let mut points = Vec::with_capacity(pixels.len());
+                for i in pixels {
+                    let mut sampler = Sampler::new(self.seed, i as u64, self.k as u64);
+                    let film_pos = Vec2::new((i % w) as f32, (i / w) as f32) + sampler.get_2d();
+                    let rule = GatherRule { depth: depths[i].unwrap_or(0), ..*base_rule };
+                    paths.push(trace_camera_path(
+                        scene,
+                        camera.ray(film_pos),
+                        self.wl,
+                        &mut sampler,
+                        &rule,
+                        &mut points,
+                    ));
+                }
+                (paths, points)
             })
             .collect();
-        let mut owners = Vec::new();
-        let mut points = Vec::new();
-        let mut point_wl = Vec::new();
+        let IterationResult { paths, owners, points, radii, photons, point_wl, grid_input, grid, .. } = out;
+        paths.clear();
+        points.clear();
+        owners.clear();
+        point_wl.clear();
+        for (p, v) in batches {
+            paths.extend(p);
+            points.extend(v);
+        }
         for (i, p) in paths.iter().enumerate() {
-            for vp in &p.points {
-                owners.push(i);
-                points.push(*vp);
-                point_wl.push(p.wl);
-            }
+            owners.extend(std::iter::repeat_n(i, p.points as usize));
+            point_wl.extend(std::iter::repeat_n(p.wl, p.points as usize));
         }
         lap(&mut seconds.camera);
         // the covered shares only matter where photons landed (an empty disk's estimate is 0
         // whatever its share), so they are measured after the photon pass, for those disks only
-        let mut radii: Vec<GatherRadii> = (0..points.len())
+        radii.clear();
+        (0..points.len())
             .into_par_iter()
             .map(|j| {
                 let r = radius_of(owners[j], &points[j]);
@@ -172,22 +224,24 @@ impl Iteration {
                     caustic_coverage: 1.0,
                 }
             })
-            .collect();
+            .collect_into_vec(radii);
         lap(&mut seconds.coverage);
-        let grid_input: Vec<_> = points.iter().zip(&radii).map(|(p, r)| (p.p, r.indirect)).collect();
-        let grid = VisibilityGrid::build(&grid_input);
+        grid_input.clear();
+        grid_input.extend(points.iter().zip(radii.iter()).map(|(p, r)| (p.p, r.indirect)));
+        grid.rebuild(grid_input);
         lap(&mut seconds.grid);
-        let photons = trace_photons(
+        photons.lookups = trace_photons(
             scene,
             &self.wl,
-            &points,
-            &point_wl,
-            &radii,
-            &grid,
+            points,
+            point_wl,
+            radii,
+            grid,
             self.n_photons,
             self.photon_seed,
             self.k,
             base_rule.cone_cos,
+            &mut photons.sums,
         );
         lap(&mut seconds.photons);
         radii.par_iter_mut().enumerate().filter(|(j, _)| photons.sums[*j].photons > 0).for_each(|(j, g)| {
@@ -197,7 +251,8 @@ impl Iteration {
                 coverage::disk_coverage(scene, &points[j], g.indirect, g.caustic, rotation);
         });
         lap(&mut seconds.coverage);
-        IterationResult { paths, owners, points, radii, photons, grid_bytes: grid.memory_bytes(), seconds }
+        out.grid_bytes = out.grid.memory_bytes();
+        out.seconds = seconds;
     }
 }
 
@@ -225,7 +280,8 @@ pub fn radius_pilot(
     let pixel_angle = camera.pixel_solid_angle().sqrt();
     let it = Iteration { seed, photon_seed, k: 0, wl, n_photons };
     let radius_of = |_: usize, vp: &VisibilityPoint| settings.radius_pixels * pixel_angle * vp.footprint_distance;
-    let r = it.run(scene, camera, settings, base_rule, depths, radius_of);
+    let mut r = IterationResult::default();
+    it.run(scene, camera, settings, base_rule, depths, radius_of, &mut r);
     // photons per fully covered disk
     let mut count = vec![(0.0f32, 0u32); depths.len()];
     for (j, &i) in r.owners.iter().enumerate() {
@@ -271,20 +327,34 @@ fn gathered_radiance(sums: &PhotonSums, radii: &GatherRadii, n_photons: u64, bet
 impl IterationResult<'_> {
     /// Every pixel's estimate of this iteration: its camera path's radiance plus the photons
     /// gathered at its visibility points, at the path's wavelengths.
-    pub fn estimates(&self, n_photons: u64) -> Vec<(LayeredRadiance, SampledWavelengths)> {
-        let mut estimates: Vec<_> = self.paths.iter().map(|p| (p.radiance, p.wl)).collect();
-        for (j, &i) in self.owners.iter().enumerate() {
-            let vp = &self.points[j];
-            let g = gathered_radiance(&self.photons.sums[j], &self.radii[j], n_photons, vp.beta);
-            let (l, _) = &mut estimates[i];
-            l.add_indirect(g.caustic_radius, false);
-            l.add_indirect(g.indirect_radius, false);
-            // the caustic layer: light -> specular+ -> this first non-specular vertex -> eye
-            if vp.class.nonspecular == 0 {
-                l.caustic += g.specular_only;
-            }
+    pub fn estimates(&mut self, n_photons: u64) -> &[(LayeredRadiance, SampledWavelengths)] {
+        // a pixel's points follow each other in pixel order
+        let first = &mut self.first_point;
+        first.clear();
+        first.push(0usize);
+        for p in &self.paths {
+            first.push(first[first.len() - 1] + p.points as usize);
         }
-        estimates
+        let (first, points, sums, radii) = (&self.first_point, &self.points, &self.photons.sums, &self.radii);
+        self.paths
+            .par_iter()
+            .enumerate()
+            .map(|(i, p)| {
+                let mut l = p.radiance;
+                for j in first[i]..first[i + 1] {
+                    let vp = &points[j];
+                    let g = gathered_radiance(&sums[j], &radii[j], n_photons, vp.beta);
+                    l.add_indirect(g.caustic_radius, false);
+                    l.add_indirect(g.indirect_radius, false);
+                    // the caustic layer: light -> specular+ -> this first non-specular vertex -> eye
+                    if vp.class.nonspecular == 0 {
+                        l.caustic += g.specular_only;
+                    }
+                }
+                (l, p.wl)
+            })
+            .collect_into_vec(&mut self.estimates);
+        &self.estimates
     }
 }
 

@@ -55,6 +55,8 @@ pub struct Bidirectional<'s> {
     first_depths: Option<Vec<Option<u32>>>,
     /// Statistics of this run.
     pub stats: VismapStats,
+    /// The last iteration's lists, refilled by the next.
+    result: IterationResult<'s>,
 }
 
 impl<'s> Bidirectional<'s> {
@@ -74,6 +76,7 @@ impl<'s> Bidirectional<'s> {
             radius_scales: None,
             first_depths: None,
             stats: VismapStats::default(),
+            result: IterationResult::default(),
         }
     }
 
@@ -120,9 +123,10 @@ impl<'s> Bidirectional<'s> {
         };
         let it = Iteration { seed: self.seed, photon_seed: self.photon_seed(), k, wl: self.wavelengths(k), n_photons };
         let t = Instant::now();
-        let result: IterationResult = it.run(self.scene, self.camera, &settings, &self.rule, &depths, radius_of);
+        let result = &mut self.result;
+        it.run(self.scene, self.camera, &settings, &self.rule, &depths, radius_of, result);
         let t_film = Instant::now();
-        film.add_batch(&result.estimates(n_photons));
+        film.add_batch(result.estimates(n_photons));
         self.depths.record(&depths);
         let s = &mut self.stats;
         s.seconds.add(&PhaseSeconds { pilots, film: t_film.elapsed().as_secs_f64(), ..result.seconds });

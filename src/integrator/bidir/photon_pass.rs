@@ -80,9 +80,11 @@ pub struct PhotonPassResult {
 }
 
 /// Traces `n_photons` photons at the iteration's wavelengths `wl` with streams keyed by
-/// (`seed`, `iteration`, photon number) and returns the sums per visibility point. With a
+/// (`seed`, `iteration`, photon number) into `sums` (one per visibility point, refilled) and
+/// returns the number of grid lookups. With a
 /// quasi-specular cone (`cone_cos`), bounces inside it keep a photon a caustic photon. The reduction
-/// adds chunks' deposits in photon order, so the result is the same for any thread count.
+/// adds every point's deposits in photon order (ranges of points in parallel), so the result is
+/// the same for any thread count.
 #[allow(clippy::too_many_arguments)]
 pub fn trace_photons(
     scene: &Scene,
@@ -95,12 +97,17 @@ pub fn trace_photons(
     seed: u64,
     iteration: u32,
     cone_cos: Option<f32>,
-) -> PhotonPassResult {
+    sums: &mut Vec<PhotonSums>,
+) -> u64 {
     let n_chunks = n_photons.div_ceil(CHUNK as u64);
-    let chunks: Vec<(Vec<Deposit>, u64)> = (0..n_chunks)
+    // the points fall into ranges that are summed in parallel; every chunk of photons sorts its
+    // deposits by range (stably), so that each range adds its deposits in photon order
+    let range = points.len().div_ceil(4 * rayon::current_num_threads()).max(1);
+    let n_ranges = points.len().div_ceil(range);
+    let chunks: Vec<ChunkDeposits> = (0..n_chunks)
         .into_par_iter()
         .map(|c| {
-            let mut deposits = Vec::new();
+            let mut deposits = Vec::with_capacity(2 * CHUNK);
             let mut lookups = 0u64;
             let end = ((c + 1) * CHUNK as u64).min(n_photons);
             for i in c * CHUNK as u64..end {
@@ -108,28 +115,65 @@ pub fn trace_photons(
                 lookups +=
                     trace_photon(scene, wl, points, point_wl, radii, grid, cone_cos, &mut sampler, &mut deposits);
             }
-            (deposits, lookups)
+            ChunkDeposits::by_range(deposits, range, n_ranges, lookups)
         })
         .collect();
-    let mut sums = vec![PhotonSums::default(); points.len()];
-    let mut lookups = 0;
-    for (deposits, n) in &chunks {
-        lookups += n;
-        for d in deposits {
-            let sum = &mut sums[d.point as usize];
-            sum.photons += 1;
-            let acc = if d.caustic { &mut sum.caustic } else { &mut sum.indirect };
-            for (a, v) in acc.iter_mut().zip(d.value.0) {
-                *a += v as f64;
-            }
-            if d.specular_only {
-                for (a, v) in sum.specular_only.iter_mut().zip(d.value.0) {
+    sums.clear();
+    sums.resize(points.len(), PhotonSums::default());
+    sums.par_chunks_mut(range).enumerate().for_each(|(r, sums)| {
+        let first = r * range;
+        for chunk in &chunks {
+            for d in chunk.range(r) {
+                let sum = &mut sums[d.point as usize - first];
+                sum.photons += 1;
+                let acc = if d.caustic { &mut sum.caustic } else { &mut sum.indirect };
+                for (a, v) in acc.iter_mut().zip(d.value.0) {
                     *a += v as f64;
+                }
+                if d.specular_only {
+                    for (a, v) in sum.specular_only.iter_mut().zip(d.value.0) {
+                        *a += v as f64;
+                    }
                 }
             }
         }
+    });
+    chunks.iter().map(|c| c.lookups).sum()
+}
+
+/// One chunk's deposits, stably sorted by the range of points they go to.
+struct ChunkDeposits {
+    deposits: Vec<Deposit>,
+    /// `starts[r]..starts[r + 1]` holds the deposits of range r.
+    starts: Vec<u32>,
+    lookups: u64,
+}
+
+impl ChunkDeposits {
+    /// Counting sort of `deposits` by point / `range` into `n_ranges` ranges, in their order
+    /// within a range.
+    fn by_range(deposits: Vec<Deposit>, range: usize, n_ranges: usize, lookups: u64) -> Self {
+        let mut starts = vec![0u32; n_ranges + 1];
+        for d in &deposits {
+            starts[d.point as usize / range + 1] += 1;
+        }
+        for r in 0..n_ranges {
+            starts[r + 1] += starts[r];
+        }
+        let mut fill = starts.clone();
+        let mut sorted = deposits.clone();
+        for d in deposits {
+            let r = d.point as usize / range;
+            sorted[fill[r] as usize] = d;
+            fill[r] += 1;
+        }
+        Self { deposits: sorted, starts, lookups }
     }
-    PhotonPassResult { sums, lookups }
+
+    /// The deposits of range `r`.
+    fn range(&self, r: usize) -> &[Deposit] {
+        &self.deposits[self.starts[r] as usize..self.starts[r + 1] as usize]
+    }
 }
 
 /// One photon path. Returns the number of grid lookups made.

@@ -73,14 +73,16 @@ impl GatherRule {
     }
 }
 
-/// What one camera path of an iteration produced.
-#[derive(Clone, Debug)]
-pub struct CameraPathResult<'a> {
+/// What one camera path of an iteration produced besides its visibility points (which
+/// [`trace_camera_path`] appends to the caller's list, so that an iteration allocates per
+/// batch of pixels, not per pixel).
+#[derive(Clone, Copy, Debug)]
+pub struct CameraPathResult {
     /// Emission and direct light collected on the way (and indirect light found before the
     /// gather vertex when the gather depth is > 0).
     pub radiance: LayeredRadiance,
-    /// The gather vertices the path reached (at most [`MAX_POINTS_PER_PATH`]).
-    pub points: Vec<VisibilityPoint<'a>>,
+    /// How many gather vertices the path reached (at most [`MAX_POINTS_PER_PATH`]).
+    pub points: u32,
     /// The path's wavelengths (secondaries terminated by a dispersive interface).
     pub wl: SampledWavelengths,
 }
@@ -122,16 +124,18 @@ fn direct_by_bsdf_sample(
 /// [`MAX_POINTS_PER_PATH`] gather vertices, or more than `max_specular` specular or
 /// passed-through ([`GatherRule::passes_through`]) events, is
 /// continued from there as the path tracer ([`pt::trace`]) so that the light from C there is
-/// not lost (docs/architecture.md §7.5: no path is cut by a cap).
+/// not lost (docs/architecture.md §7.5: no path is cut by a cap). The visibility points are
+/// appended to `points`.
 pub fn trace_camera_path<'s>(
     scene: &'s Scene,
     mut ray: Ray,
     mut wl: SampledWavelengths,
     sampler: &mut Sampler,
     rule: &GatherRule,
-) -> CameraPathResult<'s> {
+    points: &mut Vec<VisibilityPoint<'s>>,
+) -> CameraPathResult {
     let mut out = LayeredRadiance::default();
-    let mut points = Vec::new();
+    let first_point = points.len();
     let mut beta = SampledSpectrum::one();
     let mut class = PathClass::default();
     let mut prev = PrevVertex::eye(ray.origin);
@@ -205,7 +209,7 @@ pub fn trace_camera_path<'s>(
         let pdf = if bs.specular || (gather && quasi_specular) { f32::INFINITY } else { bs.pdf };
         prev = PrevVertex { p: si.p, pdf };
         ray = si.spawn_ray(wi);
-        if points.len() >= MAX_POINTS_PER_PATH || pass_through_events > rule.max_specular {
+        if points.len() - first_point >= MAX_POINTS_PER_PATH || pass_through_events > rule.max_specular {
             // the rest of the path as the (unbiased) path tracer: full light sampling at every
             // vertex, Russian roulette instead of a cap
             let state = PathState { beta, class, prev, eta_scale, depth: events };
@@ -213,7 +217,7 @@ pub fn trace_camera_path<'s>(
             break;
         }
     }
-    CameraPathResult { radiance: out, points, wl }
+    CameraPathResult { radiance: out, points: (points.len() - first_point) as u32, wl }
 }
 
 /// The gather depth a path of this pixel would choose for itself (docs/architecture.md §7.5): traced by BSDF

@@ -1,0 +1,90 @@
+#!/usr/bin/env python3
+"""Samples per second of quasar `pt` against Mitsuba 3's `path` on the same scenes, in one run
+(issue 15's first target; BENCHMARKS.md).
+
+For every scene: `quasar export-mitsuba` writes it for Mitsuba (as the race and the cross-check
+do); Mitsuba renders it once to compile its kernel; then `--rounds` rounds alternate a Mitsuba
+render and a quasar render of `--spp` samples per pixel (quasar with `--masking separable`,
+Mitsuba's GGX form, so both render one image), and the fastest round of each gives its samples
+per second. The machines these run on are shared and noisy: the alternation and the best of
+several rounds keep the ratio, which is what counts, from depending on when a renderer ran.
+Mitsuba's time is `mi.render` with the result evaluated (its scene loading and kernel
+compilation excluded); quasar's is its render loop's own clock (`render_time_s` in the EXR
+header: scene loading excluded). Both use every core unless `--threads` is given.
+
+Not part of CI (minutes). Requires the Mitsuba venv of the cross-check:
+
+    target/mitsuba-venv/bin/python benches/peers/throughput.py --spp 256 --rounds 5
+"""
+
+import argparse
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tests", "crosscheck"))
+import crosscheck  # noqa: E402,F401  (points drjit at Debian's libLLVM-19)
+
+import drjit as dr  # noqa: E402
+import mitsuba as mi  # noqa: E402
+
+SCENES = ["scenes/cornell-box/cornell-box.toml", "scenes/glass-plate/glass-plate.toml",
+          "scenes/glossy-room/glossy-room.toml"]
+
+
+def mitsuba_seconds(scene, spp, seed):
+    t0 = time.perf_counter()
+    img = mi.render(scene, seed=seed, spp=spp)
+    dr.eval(img)
+    dr.sync_thread()
+    return time.perf_counter() - t0
+
+
+def quasar_seconds(a, scene_path, spp, seed, out):
+    cmd = [a.quasar, "render", scene_path, "--method", "pt", "--width", str(a.width), "--height", str(a.height),
+           "--spp", str(spp), "--seed", str(seed), "--masking", "separable", "--quiet", "-o", out]
+    if a.threads:
+        cmd += ["--threads", str(a.threads)]
+    subprocess.run(cmd, check=True)
+    with open(out, "rb") as f:
+        return float(re.search(rb"render_time_s *= *([0-9.]+)", f.read()).group(1))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quasar", default="target/release/quasar")
+    ap.add_argument("--variant", default="llvm_ad_spectral")
+    ap.add_argument("--width", type=int, default=128)
+    ap.add_argument("--height", type=int, default=128)
+    ap.add_argument("--spp", type=int, default=256)
+    ap.add_argument("--rounds", type=int, default=5)
+    ap.add_argument("--threads", type=int, default=0, help="quasar worker threads (0: all cores, as Mitsuba)")
+    ap.add_argument("scenes", nargs="*", default=SCENES)
+    a = ap.parse_args()
+    mi.set_variant(a.variant)
+    pixels = a.width * a.height
+    print(f"| scene | Mitsuba {a.variant} samples/s | quasar pt samples/s | quasar / Mitsuba |")
+    print("|---|---|---|---|")
+    with tempfile.TemporaryDirectory() as d:
+        for scene_path in a.scenes:
+            name = os.path.splitext(os.path.basename(scene_path))[0]
+            xml_dir = os.path.join(d, name)
+            subprocess.run([a.quasar, "export-mitsuba", scene_path, "-o", xml_dir, "--width", str(a.width),
+                            "--height", str(a.height), "--spp", "1"], check=True, capture_output=True)
+            scene = mi.load_file(os.path.join(xml_dir, "scene.xml"))
+            mitsuba_seconds(scene, 4, 0)  # compiles the kernel
+            m, q = [], []
+            for r in range(a.rounds):
+                m.append(mitsuba_seconds(scene, a.spp, 1 + r))
+                q.append(quasar_seconds(a, scene_path, a.spp, 1 + r, os.path.join(d, f"{name}.exr")))
+            sm, sq = pixels * a.spp / min(m), pixels * a.spp / min(q)
+            print(f"| {name} | {sm / 1e6:.2f} M | {sq / 1e6:.2f} M | {sq / sm:.2f}x |")
+            sys.stdout.flush()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
