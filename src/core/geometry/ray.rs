@@ -47,21 +47,38 @@ pub fn offset_origin(p: Vec3, p_err: Vec3, n: Vec3, dir: Vec3) -> Vec3 {
     if dir.dot(n) < 0.0 {
         offset = -offset;
     }
-    let mut po = (p + offset).to_array();
-    let off = offset.to_array();
-    for k in 0..3 {
-        if off[k] > 0.0 {
-            po[k] = po[k].next_up();
-        } else if off[k] < 0.0 {
-            po[k] = po[k].next_down();
-        }
-    }
-    Vec3::from_array(po)
+    let po = p + offset;
+    Vec3::new(float_step(po.x, offset.x), float_step(po.y, offset.y), float_step(po.z, offset.z))
+}
+
+/// `v` moved by one float step towards +infinity when `dir` > 0, towards -infinity when `dir` <
+/// 0, unchanged when `dir` is 0 (pbrt-v4's `NextFloatUp` / `NextFloatDown` for finite `v`),
+/// written with selects rather than branches: the offset's signs are as random as the
+/// surfaces' normals, so branches on them mispredict.
+#[inline]
+fn float_step(v: f32, dir: f32) -> f32 {
+    let up = dir > 0.0;
+    // zero steps to the smallest subnormal of the direction's sign
+    let v0 = if v == 0.0 { if up { 0.0 } else { -0.0 } } else { v };
+    let bits = v0.to_bits();
+    // away from zero when moving the way of the sign (or from zero itself)
+    let away = (v0 > 0.0) == up || v0 == 0.0;
+    let stepped = f32::from_bits(if away { bits.wrapping_add(1) } else { bits.wrapping_sub(1) });
+    if dir == 0.0 { v } else { stepped }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn float_steps_are_next_up_and_next_down() {
+        for v in [0.0f32, -0.0, 1.0, -1.0, 1e-30, -1e-30, 3.5e5, -7.25, f32::MIN_POSITIVE, 1e-45, -1e-45, 1e30] {
+            assert_eq!(float_step(v, 1.0).to_bits(), v.next_up().to_bits(), "{v} up");
+            assert_eq!(float_step(v, -2.0).to_bits(), v.next_down().to_bits(), "{v} down");
+            assert_eq!(float_step(v, 0.0).to_bits(), v.to_bits(), "{v} still");
+        }
+    }
 
     #[test]
     fn offset_moves_to_the_requested_side_at_all_scales() {
