@@ -4,6 +4,8 @@
 use glam::{IVec3, Vec3};
 use rayon::prelude::*;
 
+use super::split_by_lengths;
+
 /// Spatial hash of visibility points with per-point radii, built once per iteration.
 pub struct VisibilityGrid {
     origin: Vec3,
@@ -22,8 +24,46 @@ fn hash_cell(c: IVec3) -> u64 {
     crate::core::sampling::mix64(h)
 }
 
-/// Points per parallel task of the grid build.
-const GRID_CHUNK: usize = 2048;
+/// Points per parallel task of the grid build (small: points far from the camera have large
+/// radii and enter many more cells than near ones, so large chunks balance badly).
+const GRID_CHUNK: usize = 256;
+
+/// Bucket ranges sorted in parallel by the grid build (fewer when there are fewer buckets).
+const BUCKET_RANGES: u64 = 64;
+
+/// One chunk's (bucket, point) pairs grouped by bucket range (bucket >> shift), each group in
+/// the chunk's order.
+struct RangedPairs {
+    pairs: Vec<(u32, u32)>,
+    /// `pairs[start[r]..start[r + 1]]` fall in range r.
+    start: Vec<u32>,
+}
+
+impl RangedPairs {
+    /// Groups `pairs` by range (a stable counting sort).
+    fn group(pairs: &[(u32, u32)], ranges: usize, shift: u32) -> Self {
+        let mut start = vec![0u32; ranges + 1];
+        for &(bk, _) in pairs {
+            start[(bk >> shift) as usize + 1] += 1;
+        }
+        for r in 0..ranges {
+            start[r + 1] += start[r];
+        }
+        let mut fill = start.clone();
+        let mut grouped = vec![(0, 0); pairs.len()];
+        for &(bk, i) in pairs {
+            let f = &mut fill[(bk >> shift) as usize];
+            grouped[*f as usize] = (bk, i);
+            *f += 1;
+        }
+        Self { pairs: grouped, start }
+    }
+
+    /// The pairs in range `r`.
+    fn of(&self, r: usize) -> &[(u32, u32)] {
+        &self.pairs[self.start[r] as usize..self.start[r + 1] as usize]
+    }
+}
 
 /// The largest number of cells one point may be entered in, per axis (keeps outliers with huge
 /// radii from blowing the grid up; their cell range is exact, only the cell size adapts).
@@ -67,58 +107,85 @@ impl VisibilityGrid {
         let inv_cell = 1.0 / cell;
         let buckets = (points.len() * 2).next_power_of_two().max(16) as u64;
         let mask = buckets - 1;
-        // (bucket, point) pairs, each point once per distinct bucket, in point order: chunks of
-        // points in parallel, concatenated in chunk order
-        let chunks: Vec<Vec<(u32, u32)>> = points
+        // (bucket, point) pairs, each point once per distinct bucket, in point order, grouped
+        // by bucket range: chunks of points in parallel
+        let shift = buckets.trailing_zeros().saturating_sub(BUCKET_RANGES.trailing_zeros());
+        let ranges = (buckets >> shift) as usize;
+        let chunks: Vec<RangedPairs> = points
             .par_chunks(GRID_CHUNK)
             .enumerate()
             .map(|(c, chunk)| {
-                let mut pairs = Vec::with_capacity(chunk.len() * 4);
+                let mut pairs = Vec::with_capacity(chunk.len() * 8);
                 let mut mine: Vec<u32> = Vec::new();
                 for (j, (p, r)) in chunk.iter().enumerate() {
                     if !(r.is_finite() && *r > 0.0) {
                         continue;
                     }
-                    let a = ((*p - Vec3::splat(*r) - lo) * inv_cell).floor().as_ivec3();
-                    let b = ((*p + Vec3::splat(*r) - lo) * inv_cell).floor().as_ivec3();
+                    // both corners are >= 0 (lo is the least corner, rounded the same way), so
+                    // truncation is the floor
+                    let a = ((*p - Vec3::splat(*r) - lo) * inv_cell).as_ivec3();
+                    let b = ((*p + Vec3::splat(*r) - lo) * inv_cell).as_ivec3();
+                    // distinct buckets only (cells of one point rarely share a bucket)
                     mine.clear();
                     for z in a.z..=b.z {
                         for y in a.y..=b.y {
                             for x in a.x..=b.x {
-                                mine.push((hash_cell(IVec3::new(x, y, z)) & mask) as u32);
+                                let bk = (hash_cell(IVec3::new(x, y, z)) & mask) as u32;
+                                if !mine.contains(&bk) {
+                                    mine.push(bk);
+                                }
                             }
                         }
                     }
-                    mine.sort_unstable();
-                    mine.dedup();
                     let i = (c * GRID_CHUNK + j) as u32;
                     pairs.extend(mine.iter().map(|&bk| (bk, i)));
                 }
-                pairs
+                RangedPairs::group(&pairs, ranges, shift)
             })
             .collect();
-        // counting sort by bucket, stable in point order (`starts` counts, then fills)
-        let starts = &mut self.starts;
-        starts.clear();
-        starts.resize(buckets as usize + 1, 0);
-        for &(bk, _) in chunks.iter().flatten() {
-            starts[bk as usize + 1] += 1;
+        // where each range's entries start: the ranges in order, each holding its pairs of
+        // every chunk
+        let mut range_start = vec![0usize; ranges + 1];
+        for r in 0..ranges {
+            range_start[r + 1] = range_start[r] + chunks.iter().map(|c| c.of(r).len()).sum::<usize>();
         }
-        for k in 0..buckets as usize {
-            starts[k + 1] += starts[k];
-        }
-        self.entries.clear();
-        self.entries.resize(starts[buckets as usize] as usize, 0);
-        for &(bk, i) in chunks.iter().flatten() {
-            let fill = &mut starts[bk as usize];
-            self.entries[*fill as usize] = i;
-            *fill += 1;
-        }
-        // each bucket's fill ended at the next one's start: shift back
-        for k in (1..=buckets as usize).rev() {
-            starts[k] = starts[k - 1];
-        }
-        starts[0] = 0;
+        let total = range_start[ranges];
+        // every entry and start is overwritten below (`resize` writes only what a table grows by)
+        self.entries.resize(total, 0);
+        self.starts.resize(buckets as usize + 1, 0);
+        let range_entries = split_by_lengths(&mut self.entries, range_start.windows(2).map(|w| w[1] - w[0]));
+        // a counting sort per range, in parallel: a range's buckets and entries are its own,
+        // and its pairs arrive in chunk order, so every bucket lists its points in point order
+        self.starts[..buckets as usize]
+            .par_chunks_mut(1 << shift)
+            .zip(range_entries.into_par_iter())
+            .enumerate()
+            .for_each(|(r, (starts, entries))| {
+                let first_bucket = (r << shift) as u32;
+                starts.fill(0);
+                for c in &chunks {
+                    for &(bk, _) in c.of(r) {
+                        starts[(bk - first_bucket) as usize] += 1;
+                    }
+                }
+                let mut sum = 0u32;
+                for s in starts.iter_mut() {
+                    (*s, sum) = (sum, sum + *s);
+                }
+                // `starts` serves as each bucket's fill position, ending at the next one's start
+                for c in &chunks {
+                    for &(bk, i) in c.of(r) {
+                        let fill = &mut starts[(bk - first_bucket) as usize];
+                        entries[*fill as usize] = i;
+                        *fill += 1;
+                    }
+                }
+                let base = range_start[r] as u32;
+                for k in (0..starts.len()).rev() {
+                    starts[k] = base + if k == 0 { 0 } else { starts[k - 1] };
+                }
+            });
+        self.starts[buckets as usize] = total as u32;
         (self.origin, self.inv_cell, self.mask) = (lo, inv_cell, mask);
     }
 
@@ -168,6 +235,45 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn buckets_list_their_points_once_each_in_point_order() {
+        // enough points for every bucket range and many chunks, radii spread over 20x, a few
+        // left out
+        let mut s = Sampler::new(4, 5, 6);
+        let points: Vec<(Vec3, f32)> = (0..20_000)
+            .map(|k| {
+                let r = if k % 997 == 3 { f32::NAN } else { 0.01 + 0.2 * s.get_1d() * s.get_1d() };
+                (Vec3::new(s.get_1d(), s.get_1d(), s.get_1d()) * 10.0, r)
+            })
+            .collect();
+        let grid = VisibilityGrid::build(&points);
+        // the reference: every point pushed into each distinct bucket of its cells, in order
+        let buckets = grid.starts.len() - 1;
+        let mut reference: Vec<Vec<u32>> = vec![Vec::new(); buckets];
+        for (i, (p, r)) in points.iter().enumerate() {
+            if !r.is_finite() {
+                continue;
+            }
+            let a = ((*p - Vec3::splat(*r) - grid.origin) * grid.inv_cell).floor().as_ivec3();
+            let b = ((*p + Vec3::splat(*r) - grid.origin) * grid.inv_cell).floor().as_ivec3();
+            for z in a.z..=b.z {
+                for y in a.y..=b.y {
+                    for x in a.x..=b.x {
+                        let list = &mut reference[(hash_cell(IVec3::new(x, y, z)) & grid.mask) as usize];
+                        if list.last() != Some(&(i as u32)) && !list.contains(&(i as u32)) {
+                            list.push(i as u32);
+                        }
+                    }
+                }
+            }
+        }
+        for (bk, expected) in reference.iter().enumerate() {
+            let got = &grid.entries[grid.starts[bk] as usize..grid.starts[bk + 1] as usize];
+            assert_eq!(got, &expected[..], "bucket {bk}");
+        }
+        assert_eq!(grid.starts[buckets] as usize, grid.entries.len());
     }
 
     #[test]

@@ -16,6 +16,7 @@ use super::coverage;
 use super::grid::VisibilityGrid;
 use super::photon_pass::{self, GatherRadii, PhotonSums, trace_photons};
 use super::settings::VismapSettings;
+use super::split_by_lengths;
 use super::visibility_point::{CameraPathResult, GatherRule, VisibilityPoint, trace_camera_path};
 use crate::core::camera::Camera;
 use crate::core::sampling::{Sampler, mix64};
@@ -197,18 +198,39 @@ impl Iteration {
             })
             .collect();
         let IterationResult { paths, owners, points, radii, photons, point_wl, grid_input, grid, .. } = out;
-        paths.clear();
-        points.clear();
-        owners.clear();
-        point_wl.clear();
-        for (p, v) in batches {
-            paths.extend(p);
-            points.extend(v);
+        // the batches joined in parallel into the reused lists (`resize` writes only the
+        // entries a list grows by: every entry is overwritten below)
+        let n_points: usize = batches.iter().map(|b| b.1.len()).sum();
+        match batches.iter().find_map(|b| b.0.first()) {
+            Some(&path) => paths.resize(depths.len(), path),
+            None => paths.clear(),
         }
-        for (i, p) in paths.iter().enumerate() {
-            owners.extend(std::iter::repeat_n(i, p.points as usize));
-            point_wl.extend(std::iter::repeat_n(p.wl, p.points as usize));
+        match batches.iter().find_map(|b| b.1.first()) {
+            Some(&vp) => points.resize(n_points, vp),
+            None => points.clear(),
         }
+        owners.resize(n_points, 0);
+        point_wl.resize(n_points, self.wl);
+        let path_lens = batches.iter().map(|b| b.0.len());
+        let point_lens = || batches.iter().map(|b| b.1.len());
+        let parts: Vec<_> = split_by_lengths(paths, path_lens)
+            .into_iter()
+            .zip(split_by_lengths(points, point_lens()))
+            .zip(split_by_lengths(owners, point_lens()).into_iter().zip(split_by_lengths(point_wl, point_lens())))
+            .collect();
+        parts.into_par_iter().zip(batches.par_iter()).enumerate().for_each(
+            |(b, (((paths, points), (owners, point_wl)), (batch_paths, batch_points)))| {
+                paths.copy_from_slice(batch_paths);
+                points.copy_from_slice(batch_points);
+                let mut j = 0;
+                for (i, p) in batch_paths.iter().enumerate() {
+                    let n = p.points as usize;
+                    owners[j..j + n].fill(b * CAMERA_BATCH + i);
+                    point_wl[j..j + n].fill(p.wl);
+                    j += n;
+                }
+            },
+        );
         lap(&mut seconds.camera);
         // the covered shares only matter where photons landed (an empty disk's estimate is 0
         // whatever its share), so they are measured after the photon pass, for those disks only
