@@ -4,7 +4,7 @@
 use glam::{IVec3, Vec3};
 use rayon::prelude::*;
 
-use super::split_by_lengths;
+use super::ranges::{ByRange, split_by_lengths};
 
 /// Spatial hash of visibility points with per-point radii, built once per iteration.
 pub struct VisibilityGrid {
@@ -30,40 +30,6 @@ const GRID_CHUNK: usize = 256;
 
 /// Bucket ranges sorted in parallel by the grid build (fewer when there are fewer buckets).
 const BUCKET_RANGES: u64 = 64;
-
-/// One chunk's (bucket, point) pairs grouped by bucket range (bucket >> shift), each group in
-/// the chunk's order.
-struct RangedPairs {
-    pairs: Vec<(u32, u32)>,
-    /// `pairs[start[r]..start[r + 1]]` fall in range r.
-    start: Vec<u32>,
-}
-
-impl RangedPairs {
-    /// Groups `pairs` by range (a stable counting sort).
-    fn group(pairs: &[(u32, u32)], ranges: usize, shift: u32) -> Self {
-        let mut start = vec![0u32; ranges + 1];
-        for &(bk, _) in pairs {
-            start[(bk >> shift) as usize + 1] += 1;
-        }
-        for r in 0..ranges {
-            start[r + 1] += start[r];
-        }
-        let mut fill = start.clone();
-        let mut grouped = vec![(0, 0); pairs.len()];
-        for &(bk, i) in pairs {
-            let f = &mut fill[(bk >> shift) as usize];
-            grouped[*f as usize] = (bk, i);
-            *f += 1;
-        }
-        Self { pairs: grouped, start }
-    }
-
-    /// The pairs in range `r`.
-    fn of(&self, r: usize) -> &[(u32, u32)] {
-        &self.pairs[self.start[r] as usize..self.start[r + 1] as usize]
-    }
-}
 
 /// The largest number of cells one point may be entered in, per axis (keeps outliers with huge
 /// radii from blowing the grid up; their cell range is exact, only the cell size adapts).
@@ -111,7 +77,7 @@ impl VisibilityGrid {
         // by bucket range: chunks of points in parallel
         let shift = buckets.trailing_zeros().saturating_sub(BUCKET_RANGES.trailing_zeros());
         let ranges = (buckets >> shift) as usize;
-        let chunks: Vec<RangedPairs> = points
+        let chunks: Vec<ByRange<(u32, u32)>> = points
             .par_chunks(GRID_CHUNK)
             .enumerate()
             .map(|(c, chunk)| {
@@ -140,7 +106,7 @@ impl VisibilityGrid {
                     let i = (c * GRID_CHUNK + j) as u32;
                     pairs.extend(mine.iter().map(|&bk| (bk, i)));
                 }
-                RangedPairs::group(&pairs, ranges, shift)
+                ByRange::group(&pairs, ranges, |&(bk, _)| (bk >> shift) as usize)
             })
             .collect();
         // where each range's entries start: the ranges in order, each holding its pairs of

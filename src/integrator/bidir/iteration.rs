@@ -15,8 +15,8 @@ use rayon::prelude::*;
 use super::coverage;
 use super::grid::VisibilityGrid;
 use super::photon_pass::{self, GatherRadii, PhotonSums, trace_photons};
+use super::ranges::split_by_lengths;
 use super::settings::VismapSettings;
-use super::split_by_lengths;
 use super::visibility_point::{CameraPathResult, GatherRule, VisibilityPoint, trace_camera_path};
 use crate::core::camera::Camera;
 use crate::core::sampling::{Sampler, mix64};
@@ -36,7 +36,7 @@ pub fn iteration_wavelength_u(seed: u64, k: u32) -> f32 {
 }
 
 /// Pixels whose camera paths one task traces into one list of visibility points.
-const CAMERA_BATCH: usize = 256;
+const CAMERA_BATCH: usize = 64;
 
 /// Photons a gather disk should hold in an iteration: the automatic radius is shrunk (never
 /// grown) until the pilot pass's photon density puts this many photons in it.

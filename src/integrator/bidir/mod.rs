@@ -17,18 +17,6 @@ pub mod methods;
 pub mod passes;
 pub mod photon_pass;
 pub mod quasi_cone;
+mod ranges;
 pub mod settings;
 pub mod visibility_point;
-
-/// `v` cut into consecutive slices of the given lengths (which must add up to `v.len()`), for
-/// filling the parts of one list in parallel.
-pub(crate) fn split_by_lengths<T>(mut v: &mut [T], lengths: impl Iterator<Item = usize>) -> Vec<&mut [T]> {
-    let mut parts = Vec::new();
-    for n in lengths {
-        let (head, tail) = v.split_at_mut(n);
-        parts.push(head);
-        v = tail;
-    }
-    debug_assert!(v.is_empty(), "the lengths do not cover the slice");
-    parts
-}

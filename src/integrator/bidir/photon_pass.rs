@@ -9,6 +9,7 @@ use rayon::prelude::*;
 
 use super::grid::VisibilityGrid;
 use super::quasi_cone::{QuasiCone, in_cone};
+use super::ranges::ByRange;
 use super::visibility_point::VisibilityPoint;
 use crate::core::geometry::Ray;
 use crate::core::sampling::Sampler;
@@ -17,7 +18,7 @@ use crate::integrator::pt::russian_roulette;
 use crate::integrator::scatter::scatter;
 
 /// Photons traced per parallel work item (the unit of the fixed-order reduction).
-const CHUNK: usize = 1024;
+const CHUNK: usize = 256;
 /// Photon bounces before Russian roulette may end a photon.
 const RR_DEPTH: u32 = 3;
 /// A hard cap on photon path length (Russian roulette ends paths long before in practice).
@@ -104,7 +105,7 @@ pub fn trace_photons(
     // deposits by range (stably), so that each range adds its deposits in photon order
     let range = points.len().div_ceil(4 * rayon::current_num_threads()).max(1);
     let n_ranges = points.len().div_ceil(range);
-    let chunks: Vec<ChunkDeposits> = (0..n_chunks)
+    let chunks: Vec<(ByRange<Deposit>, u64)> = (0..n_chunks)
         .into_par_iter()
         .map(|c| {
             let mut deposits = Vec::with_capacity(2 * CHUNK);
@@ -115,15 +116,15 @@ pub fn trace_photons(
                 lookups +=
                     trace_photon(scene, wl, points, point_wl, radii, grid, cone_cos, &mut sampler, &mut deposits);
             }
-            ChunkDeposits::by_range(deposits, range, n_ranges, lookups)
+            (ByRange::group(&deposits, n_ranges, |d| d.point as usize / range), lookups)
         })
         .collect();
     sums.clear();
     sums.resize(points.len(), PhotonSums::default());
     sums.par_chunks_mut(range).enumerate().for_each(|(r, sums)| {
         let first = r * range;
-        for chunk in &chunks {
-            for d in chunk.range(r) {
+        for (chunk, _) in &chunks {
+            for d in chunk.of(r) {
                 let sum = &mut sums[d.point as usize - first];
                 sum.photons += 1;
                 let acc = if d.caustic { &mut sum.caustic } else { &mut sum.indirect };
@@ -138,42 +139,7 @@ pub fn trace_photons(
             }
         }
     });
-    chunks.iter().map(|c| c.lookups).sum()
-}
-
-/// One chunk's deposits, stably sorted by the range of points they go to.
-struct ChunkDeposits {
-    deposits: Vec<Deposit>,
-    /// `starts[r]..starts[r + 1]` holds the deposits of range r.
-    starts: Vec<u32>,
-    lookups: u64,
-}
-
-impl ChunkDeposits {
-    /// Counting sort of `deposits` by point / `range` into `n_ranges` ranges, in their order
-    /// within a range.
-    fn by_range(deposits: Vec<Deposit>, range: usize, n_ranges: usize, lookups: u64) -> Self {
-        let mut starts = vec![0u32; n_ranges + 1];
-        for d in &deposits {
-            starts[d.point as usize / range + 1] += 1;
-        }
-        for r in 0..n_ranges {
-            starts[r + 1] += starts[r];
-        }
-        let mut fill = starts.clone();
-        let mut sorted = deposits.clone();
-        for d in deposits {
-            let r = d.point as usize / range;
-            sorted[fill[r] as usize] = d;
-            fill[r] += 1;
-        }
-        Self { deposits: sorted, starts, lookups }
-    }
-
-    /// The deposits of range `r`.
-    fn range(&self, r: usize) -> &[Deposit] {
-        &self.deposits[self.starts[r] as usize..self.starts[r + 1] as usize]
-    }
+    chunks.iter().map(|c| c.1).sum()
 }
 
 /// One photon path. Returns the number of grid lookups made.
