@@ -44,6 +44,16 @@ pub const RADIUS_PILOT_PHOTONS: f32 = 8.0;
 /// The automatic radius is not shrunk below this share of its pixel-footprint default.
 pub const MIN_RADIUS_SCALE: f32 = 0.1;
 
+/// One camera batch's share of an iteration's lists, filled by one parallel task.
+struct BatchSlots<'a, 's> {
+    paths: &'a mut [CameraPathResult],
+    points: &'a mut [VisibilityPoint<'s>],
+    owners: &'a mut [usize],
+    point_wl: &'a mut [SampledWavelengths],
+    radii: &'a mut [GatherRadii],
+    grid_input: &'a mut [(glam::Vec3, f32)],
+}
+
 /// One iteration's passes: camera paths with their visibility points, the grid over them and
 /// the photon pass at the iteration's wavelengths, all keyed by iteration number `k`.
 pub struct Iteration {
@@ -211,45 +221,46 @@ impl Iteration {
         }
         owners.resize(n_points, 0);
         point_wl.resize(n_points, self.wl);
-        let path_lens = batches.iter().map(|b| b.0.len());
-        let point_lens = || batches.iter().map(|b| b.1.len());
-        let parts: Vec<_> = split_by_lengths(paths, path_lens)
-            .into_iter()
-            .zip(split_by_lengths(points, point_lens()))
-            .zip(split_by_lengths(owners, point_lens()).into_iter().zip(split_by_lengths(point_wl, point_lens())))
-            .collect();
-        parts.into_par_iter().zip(batches.par_iter()).enumerate().for_each(
-            |(b, (((paths, points), (owners, point_wl)), (batch_paths, batch_points)))| {
-                paths.copy_from_slice(batch_paths);
-                points.copy_from_slice(batch_points);
+        // every point's gather radii (the covered shares only matter where photons landed, an
+        // empty disk's estimate being 0 whatever its share, so they are measured after the
+        // photon pass, for those disks only) and the grid's input, in the same parallel join
+        let unmeasured = GatherRadii { indirect: 0.0, caustic: 0.0, indirect_coverage: 1.0, caustic_coverage: 1.0 };
+        radii.resize(n_points, unmeasured);
+        grid_input.resize(n_points, (glam::Vec3::ZERO, 0.0));
+        let lens = || batches.iter().map(|b| b.1.len());
+        let mut parts = (
+            split_by_lengths(paths, batches.iter().map(|b| b.0.len())).into_iter(),
+            split_by_lengths(points, lens()).into_iter(),
+            split_by_lengths(owners, lens()).into_iter(),
+            split_by_lengths(point_wl, lens()).into_iter(),
+            split_by_lengths(radii, lens()).into_iter(),
+            split_by_lengths(grid_input, lens()).into_iter(),
+        );
+        let mut slots = Vec::with_capacity(batches.len());
+        while let (Some(paths), Some(points), Some(owners), Some(point_wl), Some(radii), Some(grid_input)) =
+            (parts.0.next(), parts.1.next(), parts.2.next(), parts.3.next(), parts.4.next(), parts.5.next())
+        {
+            slots.push(BatchSlots { paths, points, owners, point_wl, radii, grid_input });
+        }
+        slots.into_par_iter().zip(batches.par_iter()).enumerate().for_each(
+            |(b, (slot, (batch_paths, batch_points)))| {
+                slot.paths.copy_from_slice(batch_paths);
+                slot.points.copy_from_slice(batch_points);
                 let mut j = 0;
                 for (i, p) in batch_paths.iter().enumerate() {
                     let n = p.points as usize;
-                    owners[j..j + n].fill(b * CAMERA_BATCH + i);
-                    point_wl[j..j + n].fill(p.wl);
+                    slot.owners[j..j + n].fill(b * CAMERA_BATCH + i);
+                    slot.point_wl[j..j + n].fill(p.wl);
                     j += n;
+                }
+                for (j, vp) in slot.points.iter().enumerate() {
+                    let r = radius_of(slot.owners[j], vp);
+                    slot.radii[j] = GatherRadii { indirect: r, caustic: r * settings.caustic_ratio, ..unmeasured };
+                    slot.grid_input[j] = (vp.p, r);
                 }
             },
         );
         lap(&mut seconds.camera);
-        // the covered shares only matter where photons landed (an empty disk's estimate is 0
-        // whatever its share), so they are measured after the photon pass, for those disks only
-        radii.clear();
-        (0..points.len())
-            .into_par_iter()
-            .map(|j| {
-                let r = radius_of(owners[j], &points[j]);
-                GatherRadii {
-                    indirect: r,
-                    caustic: r * settings.caustic_ratio,
-                    indirect_coverage: 1.0,
-                    caustic_coverage: 1.0,
-                }
-            })
-            .collect_into_vec(radii);
-        lap(&mut seconds.coverage);
-        grid_input.clear();
-        grid_input.extend(points.iter().zip(radii.iter()).map(|(p, r)| (p.p, r.indirect)));
         grid.rebuild(grid_input);
         lap(&mut seconds.grid);
         photons.lookups = trace_photons(
