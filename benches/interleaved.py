@@ -7,8 +7,10 @@ Every round renders the scene once with each binary, in turn; the fastest of `--
 of each is reported with its samples per second and its speed-up over the first binary. On the
 shared, noisy development machines the alternation and the best of several rounds make the
 ratios (not the single figures) comparable. The time is the render loop's own clock
-(`render_time_s` in the EXR header: loading and writing excluded). `--threads` (default 1)
-and the method, size and budget flags are passed to every render.
+(`render_time_s` in the EXR header: loading and writing excluded). The method, size and budget
+flags are passed to every render. `--threads` (default 1) takes several counts: every round then
+renders each binary at each count (`--threads 1,2`), and each line also gives the speed-up over the binary's
+first count (thread scaling measured in the same alternation).
 """
 
 import argparse
@@ -29,24 +31,28 @@ def main():
     ap.add_argument("--spp", type=int, default=64, help="samples per pixel (iterations for bidirectional methods)")
     ap.add_argument("--width", type=int, default=128)
     ap.add_argument("--height", type=int, default=128)
-    ap.add_argument("--threads", type=int, default=1)
+    ap.add_argument("--threads", type=lambda v: [int(t) for t in v.split(",")], default=[1],
+                    help="thread count, or several separated by commas (1,2)")
     a = ap.parse_args()
-    times = {b: [] for b in a.binaries}
+    runs = [(b, t) for b in a.binaries for t in a.threads]
+    times = {r: [] for r in runs}
     with tempfile.TemporaryDirectory() as d:
         out = os.path.join(d, "out.exr")
         for _ in range(a.runs):
-            for b in a.binaries:
+            for b, t in runs:
                 subprocess.run([b, "render", a.scene, "--method", a.method, "--spp", str(a.spp), "--width",
-                                str(a.width), "--height", str(a.height), "--threads", str(a.threads),
+                                str(a.width), "--height", str(a.height), "--threads", str(t),
                                 "--masking", "separable", "--quiet", "-o", out], check=True)
                 with open(out, "rb") as f:
-                    times[b].append(float(re.search(rb"render_time_s *= *([0-9.]+)", f.read()).group(1)))
-    base = min(times[a.binaries[0]])
+                    times[(b, t)].append(float(re.search(rb"render_time_s *= *([0-9.]+)", f.read()).group(1)))
     samples = a.width * a.height * a.spp
-    for b in a.binaries:
-        t = times[b]
-        print(f"{b}: best {min(t):.3f} s, median {statistics.median(t):.3f} s, "
-              f"{samples / min(t) / 1e6:.2f} M samples/s, {base / min(t):.2f}x")
+    for b, t in runs:
+        best = min(times[(b, t)])
+        line = (f"{b}, {t} thread{'s' if t > 1 else ''}: best {best:.3f} s, median {statistics.median(times[(b, t)]):.3f} s, "
+                f"{samples / best / 1e6:.2f} M samples/s, {min(times[(a.binaries[0], t)]) / best:.2f}x")
+        if len(a.threads) > 1:
+            line += f", {min(times[(b, a.threads[0])]) / best:.2f}x of {a.threads[0]} thread(s)"
+        print(line)
     return 0
 
 
