@@ -243,6 +243,33 @@ mod tests {
     }
 
     #[test]
+    fn photons_just_inside_a_radius_find_the_point_far_from_the_origin() {
+        // points spread over 2 km with centimetre radii, 1 km from the origin: the cells'
+        // coordinates are large and rounded, and photons sit just inside the sphere, half of
+        // them towards the corners of its bounding box
+        let mut s = Sampler::new(9, 8, 7);
+        let offset = Vec3::new(1000.0, -700.0, 350.0);
+        let points: Vec<(Vec3, f32)> = (0..3000)
+            .map(|_| (offset + Vec3::new(s.get_1d(), s.get_1d(), s.get_1d()) * 2000.0, 0.01 + 0.04 * s.get_1d()))
+            .collect();
+        let grid = VisibilityGrid::build(&points);
+        let mut tested = 0;
+        for (i, (p, r)) in points.iter().enumerate() {
+            for _ in 0..20 {
+                let dir = crate::core::sampling::uniform_sphere(s.get_2d());
+                // towards the corners (diagonal directions) half of the time
+                let dir = if s.get_1d() < 0.5 { (dir.signum() + dir * 0.1).normalize() } else { dir };
+                let q = *p + dir * (*r * (1.0 - 1e-6 * s.get_1d()));
+                if (q - *p).length_squared() <= r * r {
+                    tested += 1;
+                    assert!(grid.candidates(q).contains(&(i as u32)), "point {i} missing at {q}");
+                }
+            }
+        }
+        assert!(tested > 20_000, "{tested}");
+    }
+
+    #[test]
     fn bad_radii_are_left_out() {
         let grid = VisibilityGrid::build(&[(Vec3::ZERO, f32::NAN), (Vec3::ONE, 0.0), (Vec3::ZERO, 1.0)]);
         assert_eq!(grid.candidates(Vec3::ZERO), &[2]);
