@@ -263,17 +263,18 @@ impl Film {
         Self { blocks: Some(BlockBatches::new(width as usize, height as usize)), ..Self::new(width, height) }
     }
 
-    /// Adds one sample to every pixel (row-major `samples`, one per pixel: one iteration of a
-    /// bidirectional method) and, with block statistics, the batch's block means.
-    pub fn add_batch(&mut self, samples: &[(LayeredRadiance, SampledWavelengths)]) {
+    /// Adds one sample to every pixel, `sample(i)` for pixel i (row-major: one iteration of a
+    /// bidirectional method, computed here row by row in parallel) and, with block statistics,
+    /// the batch's block means.
+    pub fn add_batch(&mut self, sample: impl Fn(usize) -> (LayeredRadiance, SampledWavelengths) + Sync) {
         let w = self.width as usize;
-        let y: Vec<[f64; N_QUANTITIES]> = self
-            .rows_mut()
-            .zip(samples.par_chunks(w.max(1)))
-            .flat_map_iter(|(mut row, s)| {
-                s.iter().enumerate().map(|(x, (l, wl))| row.add(x, l, wl)).collect::<Vec<_>>()
-            })
-            .collect();
+        let mut y = vec![[0.0f64; N_QUANTITIES]; self.pixels.len()];
+        self.rows_mut().zip(y.par_chunks_mut(w.max(1))).enumerate().for_each(|(r, (mut row, y))| {
+            for (x, y) in y.iter_mut().enumerate() {
+                let (l, wl) = sample(r * w + x);
+                *y = row.add(x, &l, &wl);
+            }
+        });
         if let Some(b) = &mut self.blocks {
             b.add(&y);
         }

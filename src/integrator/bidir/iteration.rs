@@ -91,8 +91,6 @@ pub struct IterationResult<'s> {
     /// The grid's input: point positions and radii.
     grid_input: Vec<(glam::Vec3, f32)>,
     grid: VisibilityGrid,
-    /// Every pixel's estimate ([`estimates`](Self::estimates)).
-    estimates: Vec<(LayeredRadiance, SampledWavelengths)>,
     /// Where each pixel's points start in `points` (one more entry than pixels).
     first_point: Vec<usize>,
 }
@@ -110,7 +108,6 @@ impl Default for IterationResult<'_> {
             point_wl: Vec::new(),
             grid_input: Vec::new(),
             grid: VisibilityGrid::empty(),
-            estimates: Vec::new(),
             first_point: Vec::new(),
         }
     }
@@ -358,9 +355,9 @@ fn gathered_radiance(sums: &PhotonSums, radii: &GatherRadii, n_photons: u64, bet
 }
 
 impl IterationResult<'_> {
-    /// Every pixel's estimate of this iteration: its camera path's radiance plus the photons
-    /// gathered at its visibility points, at the path's wavelengths.
-    pub fn estimates(&mut self, n_photons: u64) -> &[(LayeredRadiance, SampledWavelengths)] {
+    /// Every pixel's estimate of this iteration, `estimate(i)` for pixel i: its camera path's
+    /// radiance plus the photons gathered at its visibility points, at the path's wavelengths.
+    pub fn estimates(&mut self, n_photons: u64) -> impl Fn(usize) -> (LayeredRadiance, SampledWavelengths) + Sync + '_ {
         // a pixel's points follow each other in pixel order
         let first = &mut self.first_point;
         first.clear();
@@ -368,26 +365,23 @@ impl IterationResult<'_> {
         for p in &self.paths {
             first.push(first[first.len() - 1] + p.points as usize);
         }
-        let (first, points, sums, radii) = (&self.first_point, &self.points, &self.photons.sums, &self.radii);
-        self.paths
-            .par_iter()
-            .enumerate()
-            .map(|(i, p)| {
-                let mut l = p.radiance;
-                for j in first[i]..first[i + 1] {
-                    let vp = &points[j];
-                    let g = gathered_radiance(&sums[j], &radii[j], n_photons, vp.beta);
-                    l.add_indirect(g.caustic_radius, false);
-                    l.add_indirect(g.indirect_radius, false);
-                    // the caustic layer: light -> specular+ -> this first non-specular vertex -> eye
-                    if vp.class.nonspecular == 0 {
-                        l.caustic += g.specular_only;
-                    }
+        let (paths, first, points, sums, radii) =
+            (&self.paths, &self.first_point, &self.points, &self.photons.sums, &self.radii);
+        move |i| {
+            let p = &paths[i];
+            let mut l = p.radiance;
+            for j in first[i]..first[i + 1] {
+                let vp = &points[j];
+                let g = gathered_radiance(&sums[j], &radii[j], n_photons, vp.beta);
+                l.add_indirect(g.caustic_radius, false);
+                l.add_indirect(g.indirect_radius, false);
+                // the caustic layer: light -> specular+ -> this first non-specular vertex -> eye
+                if vp.class.nonspecular == 0 {
+                    l.caustic += g.specular_only;
                 }
-                (l, p.wl)
-            })
-            .collect_into_vec(&mut self.estimates);
-        &self.estimates
+            }
+            (l, p.wl)
+        }
     }
 }
 
