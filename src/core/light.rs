@@ -44,10 +44,9 @@ pub enum Light {
         tri: TriangleGeom,
         /// Index into the scene's emission table.
         emission: u32,
-        /// The triangle's area ([`TriangleGeom::area`]), computed once.
+        /// The triangle's area ([`TriangleGeom::area`]), computed once (its unit normal is the
+        /// triangle's own, `tri.n`).
         area: f32,
-        /// Its unit geometric normal (e1 x e2 normalised), computed once.
-        normal: Vec3,
     },
     /// Isotropic point light, intensity scale * spectrum (W/(sr nm)).
     Point {
@@ -131,7 +130,7 @@ fn smoothstep(x: f32, a: f32, b: f32) -> f32 {
 impl Light {
     /// The area light of triangle `tri` emitting `emission` (an index into the emission table).
     pub fn area_triangle(tri: TriangleGeom, emission: u32) -> Self {
-        Self::Area { tri, emission, area: tri.area(), normal: tri.normal_unnormalised().normalize() }
+        Self::Area { tri, emission, area: tri.area() }
     }
 
     /// True for lights at infinity (seen by rays that escape the scene).
@@ -173,8 +172,8 @@ impl Light {
     /// Samples incident light at point `p` (Li, direction, solid-angle pdf).
     pub fn sample_li(&self, p: Vec3, u: Vec2, wl: &SampledWavelengths, emissions: &[Emission]) -> Option<LightSample> {
         match self {
-            Self::Area { tri, emission, area, normal } => {
-                let (area, ng) = (*area, *normal);
+            Self::Area { tri, emission, area } => {
+                let (area, ng) = (*area, Vec3::from(tri.n));
                 if area.is_nan() || area <= 0.0 {
                     return None;
                 }
@@ -321,7 +320,7 @@ impl Light {
         center: Vec3,
     ) -> Option<EmittedPhoton> {
         let photon = match self {
-            Self::Area { tri, emission, area, normal } => {
+            Self::Area { tri, emission, area } => {
                 let e = &emissions[*emission as usize];
                 let area = *area;
                 if area.is_nan() || area <= 0.0 {
@@ -329,7 +328,7 @@ impl Light {
                 }
                 let (b1, b2) = sampling::uniform_triangle(u_pos);
                 let (p, p_err) = tri.point_with_error(b1, b2);
-                let mut ng = *normal;
+                let mut ng = Vec3::from(tri.n);
                 // two-sided: the side is chosen by the first direction number, reused in [0, 1)
                 let mut u = u_dir;
                 let mut sides = 1.0;
