@@ -2,6 +2,7 @@
 //! SceneDesc -> **compile** -> integrate). Nothing here knows about file formats.
 
 use std::borrow::Cow;
+use std::sync::OnceLock;
 
 use glam::{Vec2, Vec3};
 use quasar_importers::{LightDesc, SceneDesc};
@@ -158,8 +159,10 @@ pub struct Scene {
     pub materials: Vec<Material>,
     /// Material names (same order).
     pub material_names: Vec<String>,
-    /// Non-uniformity coefficient kappa of each material over incidence (docs/architecture.md §5).
-    pub non_uniformity: Vec<NonUniformity>,
+    /// Non-uniformity coefficient kappa of each material over incidence (docs/architecture.md §5),
+    /// tabulated on first use ([`Scene::non_uniformity`]): only the bidirectional methods and
+    /// the scene analysis read it.
+    non_uniformity: OnceLock<Vec<NonUniformity>>,
     /// Emission records of emissive meshes.
     pub emissions: Vec<Emission>,
     /// All lights.
@@ -356,7 +359,7 @@ impl Scene {
             // spectra pre-sampled on the 1 nm grid (identical values to float rounding)
             materials: desc.materials.iter().map(|m| m.material.densified()).collect(),
             material_names: desc.materials.iter().map(|m| m.name.clone()).collect(),
-            non_uniformity: desc.materials.par_iter().map(|m| NonUniformity::of_material(&m.material)).collect(),
+            non_uniformity: OnceLock::new(),
             emissions,
             lights,
             infinite_lights,
@@ -369,6 +372,20 @@ impl Scene {
             radius,
             masking: desc.render.masking,
             dropped_triangles: dropped,
+        })
+    }
+
+    /// kappa of every material over incidence (indexed like [`Scene::materials`]), tabulated by
+    /// the first call: about 400,000 BSDF evaluations on the glass plate, which a path tracer
+    /// does not need. Inside a rayon worker the table is made serially: a parallel map there
+    /// could steal a task that asks for the table again before it exists.
+    pub fn non_uniformity(&self) -> &[NonUniformity] {
+        self.non_uniformity.get_or_init(|| {
+            if rayon::current_thread_index().is_some() {
+                self.materials.iter().map(NonUniformity::of_material).collect()
+            } else {
+                self.materials.par_iter().map(NonUniformity::of_material).collect()
+            }
         })
     }
 

@@ -42,7 +42,7 @@ impl SceneAnalysis {
         let mut dispersive = Vec::new();
         for &m in &used {
             let (name, material) = (&scene.material_names[m as usize], &scene.materials[m as usize]);
-            let kappa = scene.non_uniformity[m as usize].typical();
+            let kappa = scene.non_uniformity()[m as usize].typical();
             if material.is_specular() || kappa.is_infinite() {
                 specular.push(name.clone());
             } else if kappa > NARROW_KAPPA {

@@ -239,7 +239,7 @@ fn trace_photon(
         // caustic photons (sharp, gathered with the caustic radius)
         caustic &= bs.specular
             || cone_cos.is_some_and(|c| {
-                scene.non_uniformity[si.material as usize].at(wo_local.z) > NARROW_KAPPA
+                scene.non_uniformity()[si.material as usize].at(wo_local.z) > NARROW_KAPPA
                     || QuasiCone::at(&bsdf, wo_local, c).is_some_and(|k| k.contains(bs.wi))
             });
         ray = si.spawn_ray(wi);

@@ -69,7 +69,7 @@ impl GatherRule {
     /// unbiased, and it does not count as depth.
     #[inline]
     pub fn passes_through(&self, scene: &Scene, si: &SurfaceInteraction, wo_local: Vec3) -> bool {
-        self.cone_cos.is_some() && scene.non_uniformity[si.material as usize].at(wo_local.z) > NARROW_KAPPA
+        self.cone_cos.is_some() && scene.non_uniformity()[si.material as usize].at(wo_local.z) > NARROW_KAPPA
     }
 }
 
@@ -255,7 +255,7 @@ pub fn pilot_gather_depth(
         let quasi_specular = narrow || sample.is_some_and(|sc| !sc.bs.specular && in_cone(&cone, sc.bs.wi));
         if !specular && !quasi_specular && last_depth_seen != Some(depth) {
             last_depth_seen = Some(depth);
-            let kappa = scene.non_uniformity[si.material as usize].at(wo_local.z);
+            let kappa = scene.non_uniformity()[si.material as usize].at(wo_local.z);
             if best.is_none_or(|(k, _)| kappa < k) {
                 best = Some((kappa, depth));
             }
