@@ -9,6 +9,7 @@ pub use blocks::{BLOCK_BASE, BlockBatches, BlockLevel, block_sizes};
 pub use layers::{LayeredRadiance, PathClass};
 pub use spectral::{MAX_SPECTRAL_BINS, SpectralBins, SpectralSums};
 
+use glam::Vec3A;
 use quasar_materials::spectrum::color::xyz_to_linear_srgb;
 use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
 use rayon::iter::Either;
@@ -100,16 +101,19 @@ impl PixelSum {
     #[inline]
     pub fn add(&mut self, l: &LayeredRadiance, wl: &SampledWavelengths) -> [f64; N_QUANTITIES] {
         let w = wl.xyz_weights();
-        let xyz = |s: SampledSpectrum| if s.is_black() { [0.0; 3] } else { w.apply(s) };
+        let xyz = |s: SampledSpectrum| if s.is_black() { Vec3A::ZERO } else { w.apply_vec(s) };
         let layers = [xyz(l.emission), xyz(l.direct), xyz(l.indirect), xyz(l.caustic)];
         self.samples += 1;
-        if layers.iter().flatten().any(|v| !v.is_finite()) {
-            self.rejected += 1;
-            return [0.0; N_QUANTITIES];
+        if !(layers[0] + layers[1] + layers[2] + layers[3]).is_finite() {
+            // a sum of finite values can overflow to infinity: check each before rejecting
+            if layers.iter().any(|v| !v.is_finite()) {
+                self.rejected += 1;
+                return [0.0; N_QUANTITIES];
+            }
         }
         let mut y = [0.0f64; N_QUANTITIES];
         for (i, v) in layers.iter().enumerate() {
-            y[1 + i] = v[1] as f64;
+            y[1 + i] = v.y as f64;
             self.layer_y_sq[i] += y[1 + i] * y[1 + i];
         }
         y[0] = y[1..=BEAUTY_LAYERS].iter().sum();

@@ -2,6 +2,8 @@
 
 use std::ops::{Add, AddAssign, Div, DivAssign, Index, IndexMut, Mul, MulAssign, Sub};
 
+use glam::Vec3A;
+
 use super::cie;
 
 /// Number of wavelengths a path carries: one hero wavelength and three equally spaced rotations.
@@ -293,12 +295,12 @@ impl SampledWavelengths {
     pub fn xyz_weights(&self) -> XyzWeights {
         let norm = 1.0 / (N_SPECTRUM_SAMPLES as f32 * cie::CIE_Y_INTEGRAL);
         let lanes = if self.secondary_terminated() { 1 } else { N_SPECTRUM_SAMPLES };
-        let mut w = [[0.0; 3]; N_SPECTRUM_SAMPLES];
+        let mut w = [Vec3A::ZERO; N_SPECTRUM_SAMPLES];
         for ((w, &pdf), g) in w.iter_mut().zip(&self.pdf).zip(&self.grid).take(lanes) {
             if pdf > 0.0 {
                 let [x, y, z] = cie::cmf_at(g.cell, g.t);
                 let f = norm / pdf;
-                *w = [x * f, y * f, z * f];
+                *w = Vec3A::new(x * f, y * f, z * f);
             }
         }
         XyzWeights { w, lanes }
@@ -311,10 +313,11 @@ impl SampledWavelengths {
 }
 
 /// cmf(lambda_i) / (N p(lambda_i) integral(ybar)) per wavelength: XYZ = sum_i L(lambda_i)
-/// weight_i over the wavelengths still carried ([`SampledWavelengths::xyz_weights`]).
+/// weight_i over the wavelengths still carried ([`SampledWavelengths::xyz_weights`]). Each
+/// weight is one SIMD vector (X, Y, Z, 0), so a conversion is four multiply-adds of vectors.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct XyzWeights {
-    w: [[f32; 3]; N_SPECTRUM_SAMPLES],
+    w: [Vec3A; N_SPECTRUM_SAMPLES],
     /// 1 after the secondaries were terminated (their values are ignored, whatever they hold),
     /// else all.
     lanes: usize,
@@ -324,11 +327,20 @@ impl XyzWeights {
     /// The XYZ of the estimate `l`.
     #[inline]
     pub fn apply(&self, l: SampledSpectrum) -> [f32; 3] {
-        let mut xyz = [0.0f32; 3];
-        for (w, &v) in self.w.iter().zip(&l.0).take(self.lanes) {
-            for (c, wk) in xyz.iter_mut().zip(w) {
-                *c += v * wk;
+        self.apply_vec(l).to_array()
+    }
+
+    /// [`apply`](Self::apply) as a vector: the sum over wavelengths in wavelength order, from
+    /// zero, so each component is bit for bit the scalar sum.
+    #[inline]
+    pub fn apply_vec(&self, l: SampledSpectrum) -> Vec3A {
+        let mut xyz = Vec3A::ZERO;
+        if self.lanes == N_SPECTRUM_SAMPLES {
+            for (w, &v) in self.w.iter().zip(&l.0) {
+                xyz += *w * v;
             }
+        } else {
+            xyz += self.w[0] * l.0[0];
         }
         xyz
     }
