@@ -10,7 +10,10 @@ per second. The machines these run on are shared and noisy: the alternation and 
 several rounds keep the ratio, which is what counts, from depending on when a renderer ran.
 Mitsuba's time is `mi.render` with the result evaluated (its scene loading and kernel
 compilation excluded); quasar's is its render loop's own clock (`render_time_s` in the EXR
-header: scene loading excluded). Both use every core unless `--threads` is given.
+header: scene loading excluded). Both use every core unless `--threads` is given. Both trace
+the same paths on average: Mitsuba's `rr_depth` is set to quasar `pt`'s (Russian roulette from
+the third scattering event, with the same survival probability min(max(beta) eta^2, 0.95));
+Mitsuba's own default, 5, makes its paths in closed scenes longer (`--rr-depth 5`).
 
 Not part of CI (minutes). Requires the Mitsuba venv of the cross-check:
 
@@ -62,11 +65,13 @@ def main():
     ap.add_argument("--spp", type=int, default=256)
     ap.add_argument("--rounds", type=int, default=5)
     ap.add_argument("--threads", type=int, default=0, help="quasar worker threads (0: all cores, as Mitsuba)")
+    ap.add_argument("--rr-depth", type=int, default=3,
+                    help="Mitsuba's rr_depth (3: quasar pt's; 5: Mitsuba's default)")
     ap.add_argument("scenes", nargs="*", default=SCENES)
     a = ap.parse_args()
     mi.set_variant(a.variant)
     pixels = a.width * a.height
-    print(f"| scene | Mitsuba {a.variant} samples/s | quasar pt samples/s | quasar / Mitsuba |")
+    print(f"| scene | Mitsuba {a.variant} (rr_depth {a.rr_depth}) samples/s | quasar pt samples/s | quasar / Mitsuba |")
     print("|---|---|---|---|")
     with tempfile.TemporaryDirectory() as d:
         for scene_path in a.scenes:
@@ -74,7 +79,15 @@ def main():
             xml_dir = os.path.join(d, name)
             subprocess.run([a.quasar, "export-mitsuba", scene_path, "-o", xml_dir, "--width", str(a.width),
                             "--height", str(a.height), "--spp", "1"], check=True, capture_output=True)
-            scene = mi.load_file(os.path.join(xml_dir, "scene.xml"))
+            xml = os.path.join(xml_dir, "scene.xml")
+            with open(xml) as f:
+                text = f.read()
+            integrator = '<integrator type="path">'
+            assert integrator in text, "the exported scene has no path integrator"
+            text = text.replace(integrator, integrator + f'<integer name="rr_depth" value="{a.rr_depth}"/>', 1)
+            with open(xml, "w") as f:
+                f.write(text)
+            scene = mi.load_file(xml)
             mitsuba_seconds(scene, 4, 0)  # compiles the kernel
             m, q = [], []
             for r in range(a.rounds):
