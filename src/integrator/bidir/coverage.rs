@@ -61,17 +61,29 @@ pub fn disk_coverage(scene: &Scene, vp: &VisibilityPoint, r: f32, r_caustic: f32
     }
     let frame = Frame::from_z(vp.ng);
     let side = if vp.viewer_above { 1.0 } else { -1.0 };
-    if (PROBES - 4..PROBES).all(|j| covered(scene, vp, &frame, side, r, j, rotation)) {
+    // the four outermost probes first, up to the first one that misses (kept for the share)
+    let mut hits = [false; PROBES];
+    let mut traced = PROBES - 4..PROBES - 4;
+    for j in PROBES - 4..PROBES {
+        hits[j] = covered(scene, vp, &frame, side, r, j, rotation);
+        traced.end = j + 1;
+        if !hits[j] {
+            break;
+        }
+    }
+    if traced.end == PROBES && hits[PROBES - 1] {
         return (1.0, 1.0);
     }
-    let hits: Vec<bool> = (0..PROBES).map(|j| covered(scene, vp, &frame, side, r, j, rotation)).collect();
+    for j in (0..PROBES).filter(|j| !traced.contains(j)) {
+        hits[j] = covered(scene, vp, &frame, side, r, j, rotation);
+    }
     let share = |h: &[bool]| (h.iter().filter(|&&b| b).count().max(1) as f32) / h.len() as f32;
     let indirect = share(&hits);
     // the caustic disk: probes within its radius (r_c = r / 2 by default)
     let caustic = if r_caustic * 2.0 <= r * 1.0001 {
         share(&hits[..INNER_PROBES])
     } else {
-        let hits: Vec<bool> = (0..PROBES).map(|j| covered(scene, vp, &frame, side, r_caustic, j, rotation)).collect();
+        let hits: [bool; PROBES] = std::array::from_fn(|j| covered(scene, vp, &frame, side, r_caustic, j, rotation));
         share(&hits)
     };
     (indirect, caustic)
