@@ -64,10 +64,10 @@ pub fn disk_coverage(scene: &Scene, vp: &VisibilityPoint, r: f32, r_caustic: f32
     // the four outermost probes first, up to the first one that misses (kept for the share)
     let mut hits = [false; PROBES];
     let mut traced = PROBES - 4..PROBES - 4;
-    for j in PROBES - 4..PROBES {
-        hits[j] = covered(scene, vp, &frame, side, r, j, rotation);
+    for (j, hit) in hits.iter_mut().enumerate().skip(PROBES - 4) {
+        *hit = covered(scene, vp, &frame, side, r, j, rotation);
         traced.end = j + 1;
-        if !hits[j] {
+        if !*hit {
             break;
         }
     }
