@@ -14,6 +14,8 @@ header: scene loading excluded). Both use every core unless `--threads` is given
 the same paths on average: Mitsuba's `rr_depth` is set to quasar `pt`'s (Russian roulette from
 the third scattering event, with the same survival probability min(max(beta) eta^2, 0.95));
 Mitsuba's own default, 5, makes its paths in closed scenes longer (`--rr-depth 5`).
+`--variant` takes several Mitsuba variants separated by commas (`llvm_ad_spectral,scalar_spectral`:
+the vectorised and the scalar backend); every round then renders each of them.
 
 Not part of CI (minutes). Requires the Mitsuba venv of the cross-check:
 
@@ -59,7 +61,8 @@ def quasar_seconds(a, scene_path, spp, seed, out):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quasar", default="target/release/quasar")
-    ap.add_argument("--variant", default="llvm_ad_spectral")
+    ap.add_argument("--variant", type=lambda v: v.split(","), default=["llvm_ad_spectral"],
+                    help="Mitsuba variant, or several separated by commas")
     ap.add_argument("--width", type=int, default=128)
     ap.add_argument("--height", type=int, default=128)
     ap.add_argument("--spp", type=int, default=256)
@@ -69,10 +72,11 @@ def main():
                     help="Mitsuba's rr_depth (3: quasar pt's; 5: Mitsuba's default)")
     ap.add_argument("scenes", nargs="*", default=SCENES)
     a = ap.parse_args()
-    mi.set_variant(a.variant)
     pixels = a.width * a.height
-    print(f"| scene | Mitsuba {a.variant} (rr_depth {a.rr_depth}) samples/s | quasar pt samples/s | quasar / Mitsuba |")
-    print("|---|---|---|---|")
+    head = " | ".join(f"Mitsuba {v} (rr_depth {a.rr_depth}) samples/s" for v in a.variant)
+    ratios = " | ".join(f"quasar / {v}" for v in a.variant)
+    print(f"| scene | {head} | quasar pt samples/s | {ratios} |")
+    print("|---|" + "---|" * (2 * len(a.variant) + 1))
     with tempfile.TemporaryDirectory() as d:
         for scene_path in a.scenes:
             name = os.path.splitext(os.path.basename(scene_path))[0]
@@ -87,14 +91,22 @@ def main():
             text = text.replace(integrator, integrator + f'<integer name="rr_depth" value="{a.rr_depth}"/>', 1)
             with open(xml, "w") as f:
                 f.write(text)
-            scene = mi.load_file(xml)
-            mitsuba_seconds(scene, 4, 0)  # compiles the kernel
-            m, q = [], []
+            scenes = {}
+            for v in a.variant:
+                mi.set_variant(v)
+                scenes[v] = mi.load_file(xml)
+                mitsuba_seconds(scenes[v], 4, 0)  # compiles the kernel
+            m, q = {v: [] for v in a.variant}, []
             for r in range(a.rounds):
-                m.append(mitsuba_seconds(scene, a.spp, 1 + r))
+                for v in a.variant:
+                    mi.set_variant(v)
+                    m[v].append(mitsuba_seconds(scenes[v], a.spp, 1 + r))
                 q.append(quasar_seconds(a, scene_path, a.spp, 1 + r, os.path.join(d, f"{name}.exr")))
-            sm, sq = pixels * a.spp / min(m), pixels * a.spp / min(q)
-            print(f"| {name} | {sm / 1e6:.2f} M | {sq / 1e6:.2f} M | {sq / sm:.2f}x |")
+            sm = {v: pixels * a.spp / min(t) for v, t in m.items()}
+            sq = pixels * a.spp / min(q)
+            rates = " | ".join(f"{sm[v] / 1e6:.2f} M" for v in a.variant)
+            ratio = " | ".join(f"{sq / sm[v]:.2f}x" for v in a.variant)
+            print(f"| {name} | {rates} | {sq / 1e6:.2f} M | {ratio} |")
             sys.stdout.flush()
     return 0
 
