@@ -16,6 +16,11 @@ the third scattering event, with the same survival probability min(max(beta) eta
 Mitsuba's own default, 5, makes its paths in closed scenes longer (`--rr-depth 5`).
 `--variant` takes several Mitsuba variants separated by commas (`llvm_ad_spectral,scalar_spectral`:
 the vectorised and the scalar backend); every round then renders each of them.
+`--llvm-target CPU:FEATURES:WIDTH` (for example `haswell:+avx2,+fma:4`) makes Dr.Jit's LLVM
+backend compile for that CPU, instruction-set features and number of lanes instead of the host's
+(here `skylake-avx512`, 16 lanes), through `jit_llvm_set_target` of `libdrjit-core.so` (a C++
+symbol, called with ctypes; Dr.Jit 1.5): how much of Mitsuba's speed comes from its lanes and
+how much from the instruction set.
 
 Not part of CI (minutes). Requires the Mitsuba venv of the cross-check:
 
@@ -23,6 +28,7 @@ Not part of CI (minutes). Requires the Mitsuba venv of the cross-check:
 """
 
 import argparse
+import ctypes
 import os
 import re
 import subprocess
@@ -48,6 +54,22 @@ def mitsuba_seconds(scene, spp, seed):
     return time.perf_counter() - t0
 
 
+def set_llvm_target(variants, target):
+    """Dr.Jit's LLVM backend compiles for `target` = CPU:FEATURES:WIDTH from now on."""
+    cpu, features, width = target.split(":")
+    llvm = [v for v in variants if v.startswith("llvm")]
+    assert llvm, "--llvm-target needs an llvm variant"
+    mi.set_variant(llvm[0])  # initialises the LLVM backend
+    lib = ctypes.CDLL(os.path.join(os.path.dirname(dr.__file__), "libdrjit-core.so"))
+    set_target = lib._Z19jit_llvm_set_targetPKcS0_j  # jit_llvm_set_target(const char*, const char*, uint32_t)
+    set_target.argtypes = [ctypes.c_char_p, ctypes.c_char_p, ctypes.c_uint32]
+    set_target(cpu.encode(), features.encode(), int(width))
+    vector_width = lib._Z21jit_llvm_vector_widthv
+    vector_width.restype = ctypes.c_uint32
+    assert vector_width() == int(width), f"Dr.Jit kept {vector_width()} lanes"
+    print(f"Dr.Jit LLVM target: cpu {cpu}, features {features}, {vector_width()} lanes")
+
+
 def quasar_seconds(a, scene_path, spp, seed, out):
     cmd = [a.quasar, "render", scene_path, "--method", "pt", "--width", str(a.width), "--height", str(a.height),
            "--spp", str(spp), "--seed", str(seed), "--masking", "separable", "--quiet", "-o", out]
@@ -70,8 +92,11 @@ def main():
     ap.add_argument("--threads", type=int, default=0, help="quasar worker threads (0: all cores, as Mitsuba)")
     ap.add_argument("--rr-depth", type=int, default=3,
                     help="Mitsuba's rr_depth (3: quasar pt's; 5: Mitsuba's default)")
+    ap.add_argument("--llvm-target", help="CPU:FEATURES:WIDTH of Dr.Jit's LLVM backend (default: the host's)")
     ap.add_argument("scenes", nargs="*", default=SCENES)
     a = ap.parse_args()
+    if a.llvm_target:
+        set_llvm_target(a.variant, a.llvm_target)
     pixels = a.width * a.height
     head = " | ".join(f"Mitsuba {v} (rr_depth {a.rr_depth}) samples/s" for v in a.variant)
     ratios = " | ".join(f"quasar / {v}" for v in a.variant)
