@@ -176,3 +176,31 @@ fn render_table_sets_the_bidirectional_methods() {
     assert_eq!(img.meta("iterations"), Some("2"));
     assert_eq!(img.meta("cone_deg"), Some("none"));
 }
+
+/// The kappa table is made on first use (docs/architecture.md §5): asked for first by several
+/// rayon workers at once (a method built without making it), it is made once, and it is each
+/// material's own table.
+#[test]
+fn the_kappa_table_is_made_once_even_when_workers_ask_for_it_together() {
+    use quasar::core::scene::Scene;
+    use quasar_materials::{NARROW_KAPPA, NonUniformity};
+    use rayon::prelude::*;
+
+    let desc = quasar::render::job::load_scene(&shipped("glass-plate/glass-plate.toml")).unwrap();
+    let scene = Scene::compile(&desc).unwrap();
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(3).build().unwrap();
+    let tables: Vec<usize> =
+        pool.install(|| (0..64).into_par_iter().map(|_| scene.non_uniformity().as_ptr() as usize).collect());
+    assert!(tables.iter().all(|&t| t == tables[0]), "more than one table");
+    assert_eq!(scene.non_uniformity().len(), scene.materials.len());
+    for (m, nu) in scene.materials.iter().zip(scene.non_uniformity()) {
+        assert_eq!(*nu, NonUniformity::of_material(m));
+    }
+    let kappa = |name: &str| {
+        let i = scene.material_names.iter().position(|n| n == name).unwrap();
+        scene.non_uniformity()[i].typical()
+    };
+    assert!((kappa("substrate") - 1.0).abs() < 0.05, "{}", kappa("substrate"));
+    assert!(kappa("glass_top") > NARROW_KAPPA, "{}", kappa("glass_top"));
+    assert!(kappa("glass_side").is_infinite());
+}

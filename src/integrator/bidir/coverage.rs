@@ -139,6 +139,37 @@ material = "white"
     }
 
     #[test]
+    fn shares_equal_those_of_every_probe_traced() {
+        // the early exit and the reuse of the outer probes change nothing: the shares are those
+        // of all probes traced one by one, on disks inside, across edges and corners, and under
+        // the panel
+        let scene = floor_with_panel(1.0);
+        let mut n_partial = 0;
+        for k in 0..400 {
+            let u = |m: u32| ((k * m + 7) % 101) as f32 / 100.0;
+            let p = Vec3::new(2.4 * u(37) - 1.2, 0.0, 2.4 * u(53) - 1.2);
+            let (r, rotation) = (0.05 + 0.3 * u(29), 6.0 * u(11));
+            let r_caustic = if k % 2 == 0 { r / 2.0 } else { r * 0.7 };
+            let vp = point(p);
+            let frame = Frame::from_z(vp.ng);
+            let all = |r: f32| -> [bool; PROBES] {
+                std::array::from_fn(|j| covered(&scene, &vp, &frame, 1.0, r, j, rotation))
+            };
+            let share = |h: &[bool]| (h.iter().filter(|&&b| b).count().max(1) as f32) / h.len() as f32;
+            let hits = all(r);
+            let expected = if hits[PROBES - 4..].iter().all(|&h| h) {
+                (1.0, 1.0)
+            } else {
+                n_partial += 1;
+                let caustic = if k % 2 == 0 { share(&hits[..INNER_PROBES]) } else { share(&all(r_caustic)) };
+                (share(&hits), caustic)
+            };
+            assert_eq!(disk_coverage(&scene, &vp, r, r_caustic, rotation), expected, "disk {k} at {p} radius {r}");
+        }
+        assert!(n_partial > 50, "only {n_partial} partly covered disks");
+    }
+
+    #[test]
     fn coverage_of_interior_edge_and_corner_disks() {
         for scale in [1.0, 1e-4, 1e5] {
             coverage_at_scale(scale);

@@ -401,6 +401,37 @@ mod tests {
     }
 
     #[test]
+    fn vector_xyz_is_the_scalar_sum_in_wavelength_order() {
+        // the scalar definition: XYZ_k = sum over the carried wavelengths i, in order from 0.0,
+        // of L_i w_ik, with w_ik = cmf_k(lambda_i) / (N p_i integral(ybar))
+        let norm = 1.0 / (N_SPECTRUM_SAMPLES as f32 * cie::CIE_Y_INTEGRAL);
+        for k in 0..500 {
+            let mut wl = SampledWavelengths::sample_visible((k as f32 + 0.37) / 500.0);
+            let l = SampledSpectrum(std::array::from_fn(|i| ((k * 7 + i * 13) % 17) as f32 * 0.37 - 1.5));
+            let terminated = k % 3 == 0;
+            if terminated {
+                wl.terminate_secondary();
+            }
+            let carried = if terminated { 1 } else { N_SPECTRUM_SAMPLES };
+            let mut expected = [0.0f32; 3];
+            for i in 0..carried {
+                let cmf = cie::cmf_at(wl.grid[i].cell, wl.grid[i].t);
+                let f = norm / wl.pdf[i];
+                for c in 0..3 {
+                    expected[c] += l.0[i] * (cmf[c] * f);
+                }
+            }
+            let got = wl.xyz_weights().apply(l);
+            assert_eq!(got.map(f32::to_bits), expected.map(f32::to_bits), "sample {k}");
+            if terminated {
+                // whatever the secondaries hold (a NaN included), only the hero counts
+                let garbage = SampledSpectrum([l.0[0], f32::NAN, f32::INFINITY, -3.0]);
+                assert_eq!(wl.xyz_weights().apply(garbage).map(f32::to_bits), expected.map(f32::to_bits));
+            }
+        }
+    }
+
+    #[test]
     fn grid_positions_cover_the_range() {
         assert_eq!(GridPos::of(LAMBDA_MIN), GridPos { cell: 0, t: 0.0 });
         assert_eq!(GridPos::of(LAMBDA_MAX), GridPos { cell: GRID_CELLS as u32 - 1, t: 1.0 });
