@@ -71,7 +71,7 @@ pub fn disk_coverage(scene: &Scene, vp: &VisibilityPoint, r: f32, r_caustic: f32
             break;
         }
     }
-    if traced.end == PROBES && hits[PROBES - 1] {
+    if hits[PROBES - 4..].iter().all(|&h| h) {
         return (1.0, 1.0);
     }
     for j in (0..PROBES).filter(|j| !traced.contains(j)) {

@@ -228,7 +228,7 @@ mod tests {
                 for y in a.y..=b.y {
                     for x in a.x..=b.x {
                         let list = &mut reference[(hash_cell(IVec3::new(x, y, z)) & grid.mask) as usize];
-                        if list.last() != Some(&(i as u32)) && !list.contains(&(i as u32)) {
+                        if !list.contains(&(i as u32)) {
                             list.push(i as u32);
                         }
                     }
