@@ -20,7 +20,9 @@ the vectorised and the scalar backend); every round then renders each of them.
 backend compile for that CPU, instruction-set features and number of lanes instead of the host's
 (here `skylake-avx512`, 16 lanes), through `jit_llvm_set_target` of `libdrjit-core.so` (a C++
 symbol, called with ctypes; Dr.Jit 1.5): how much of Mitsuba's speed comes from its lanes and
-how much from the instruction set.
+how much from the instruction set. `--quasar` likewise takes several quasar binaries separated
+by commas (`target/release/quasar,target/pgo/quasar`: the release build and the PGO build of
+`scripts/build-pgo.sh`), each rendered in every round.
 
 Not part of CI (minutes). Requires the Mitsuba venv of the cross-check:
 
@@ -70,8 +72,8 @@ def set_llvm_target(variants, target):
     print(f"Dr.Jit LLVM target: cpu {cpu}, features {features}, {vector_width()} lanes")
 
 
-def quasar_seconds(a, scene_path, spp, seed, out):
-    cmd = [a.quasar, "render", scene_path, "--method", "pt", "--width", str(a.width), "--height", str(a.height),
+def quasar_seconds(a, binary, scene_path, spp, seed, out):
+    cmd = [binary, "render", scene_path, "--method", "pt", "--width", str(a.width), "--height", str(a.height),
            "--spp", str(spp), "--seed", str(seed), "--masking", "separable", "--quiet", "-o", out]
     if a.threads:
         cmd += ["--threads", str(a.threads)]
@@ -82,7 +84,8 @@ def quasar_seconds(a, scene_path, spp, seed, out):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quasar", default="target/release/quasar")
+    ap.add_argument("--quasar", type=lambda v: v.split(","), default=["target/release/quasar"],
+                    help="quasar binary, or several separated by commas")
     ap.add_argument("--variant", type=lambda v: v.split(","), default=["llvm_ad_spectral"],
                     help="Mitsuba variant, or several separated by commas")
     ap.add_argument("--width", type=int, default=128)
@@ -99,14 +102,15 @@ def main():
         set_llvm_target(a.variant, a.llvm_target)
     pixels = a.width * a.height
     head = " | ".join(f"Mitsuba {v} (rr_depth {a.rr_depth}) samples/s" for v in a.variant)
-    ratios = " | ".join(f"quasar / {v}" for v in a.variant)
-    print(f"| scene | {head} | quasar pt samples/s | {ratios} |")
-    print("|---|" + "---|" * (2 * len(a.variant) + 1))
+    quasars = " | ".join(f"{b} pt samples/s" for b in a.quasar)
+    ratios = " | ".join(f"{b} / {v}" for b in a.quasar for v in a.variant)
+    print(f"| scene | {head} | {quasars} | {ratios} |")
+    print("|---|" + "---|" * ((len(a.variant) + 1) * (len(a.quasar) + 1) - 1))
     with tempfile.TemporaryDirectory() as d:
         for scene_path in a.scenes:
             name = os.path.splitext(os.path.basename(scene_path))[0]
             xml_dir = os.path.join(d, name)
-            subprocess.run([a.quasar, "export-mitsuba", scene_path, "-o", xml_dir, "--width", str(a.width),
+            subprocess.run([a.quasar[0], "export-mitsuba", scene_path, "-o", xml_dir, "--width", str(a.width),
                             "--height", str(a.height), "--spp", "1"], check=True, capture_output=True)
             xml = os.path.join(xml_dir, "scene.xml")
             with open(xml) as f:
@@ -121,17 +125,19 @@ def main():
                 mi.set_variant(v)
                 scenes[v] = mi.load_file(xml)
                 mitsuba_seconds(scenes[v], 4, 0)  # compiles the kernel
-            m, q = {v: [] for v in a.variant}, []
+            m, q = {v: [] for v in a.variant}, {b: [] for b in a.quasar}
             for r in range(a.rounds):
                 for v in a.variant:
                     mi.set_variant(v)
                     m[v].append(mitsuba_seconds(scenes[v], a.spp, 1 + r))
-                q.append(quasar_seconds(a, scene_path, a.spp, 1 + r, os.path.join(d, f"{name}.exr")))
+                for b in a.quasar:
+                    q[b].append(quasar_seconds(a, b, scene_path, a.spp, 1 + r, os.path.join(d, f"{name}.exr")))
             sm = {v: pixels * a.spp / min(t) for v, t in m.items()}
-            sq = pixels * a.spp / min(q)
+            sq = {b: pixels * a.spp / min(t) for b, t in q.items()}
             rates = " | ".join(f"{sm[v] / 1e6:.2f} M" for v in a.variant)
-            ratio = " | ".join(f"{sq / sm[v]:.2f}x" for v in a.variant)
-            print(f"| {name} | {rates} | {sq / 1e6:.2f} M | {ratio} |")
+            qrates = " | ".join(f"{sq[b] / 1e6:.2f} M" for b in a.quasar)
+            ratio = " | ".join(f"{sq[b] / sm[v]:.2f}x" for b in a.quasar for v in a.variant)
+            print(f"| {name} | {rates} | {qrates} | {ratio} |")
             sys.stdout.flush()
     return 0
 
