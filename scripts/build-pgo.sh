@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# The fastest quasar binary for this machine's kind of work: the `dist` profile (fat LTO, one
-# codegen unit) built with profile-guided optimisation (PGO). BENCHMARKS.md ("Build profiles
-# and PGO") gives what it buys; the images are bit-identical to those of `cargo build --release`.
+# Builds the fastest quasar binary: the `dist` profile (fat LTO, one codegen unit) with
+# profile-guided optimisation (PGO). BENCHMARKS.md ("Build profiles and PGO") gives what it
+# buys; the images are bit-identical to those of `cargo build --release`.
 #
 #   scripts/build-pgo.sh            # writes target/pgo/quasar
 #
@@ -27,8 +27,9 @@ data=target/pgo/data
 rm -rf "$data"
 mkdir -p "$data"
 
+# the flags travel in CARGO_ENCODED_RUSTFLAGS, which keeps a path with spaces in one argument
 echo "== instrumented build"
-RUSTFLAGS="-Cprofile-generate=$PWD/$data" cargo build --profile dist --bin quasar --target-dir target/pgo/gen
+CARGO_ENCODED_RUSTFLAGS="-Cprofile-generate=$PWD/$data" cargo build --profile dist --bin quasar --target-dir target/pgo/gen
 
 echo "== training renders"
 bin=target/pgo/gen/dist/quasar
@@ -51,7 +52,7 @@ echo "== merged profile"
 "$profdata" merge -o target/pgo/quasar.profdata "$data"
 
 echo "== optimised build"
-RUSTFLAGS="-Cprofile-use=$PWD/target/pgo/quasar.profdata" cargo build --profile dist --bin quasar \
+CARGO_ENCODED_RUSTFLAGS="-Cprofile-use=$PWD/target/pgo/quasar.profdata" cargo build --profile dist --bin quasar \
   --target-dir target/pgo/use
 cp target/pgo/use/dist/quasar target/pgo/quasar
 echo "target/pgo/quasar"
