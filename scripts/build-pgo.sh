@@ -23,16 +23,18 @@ if [ ! -x "$profdata" ]; then
   exit 1
 fi
 
-data=target/pgo/data
+pgo=target/pgo
+data=$pgo/data
+merged=$pgo/quasar.profdata
 rm -rf "$data"
 mkdir -p "$data"
 
 # the flags travel in CARGO_ENCODED_RUSTFLAGS, which keeps a path with spaces in one argument
 echo "== instrumented build"
-CARGO_ENCODED_RUSTFLAGS="-Cprofile-generate=$PWD/$data" cargo build --profile dist --bin quasar --target-dir target/pgo/gen
+CARGO_ENCODED_RUSTFLAGS="-Cprofile-generate=$PWD/$data" cargo build --profile dist --bin quasar --target-dir "$pgo/gen"
 
 echo "== training renders"
-bin=target/pgo/gen/dist/quasar
+bin=$pgo/gen/dist/quasar
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 train() {
@@ -49,10 +51,10 @@ done
 train scenes/cornell-box/cornell-box.toml --method direct --spp 16
 
 echo "== merged profile"
-"$profdata" merge -o target/pgo/quasar.profdata "$data"
+"$profdata" merge -o "$merged" "$data"
 
 echo "== optimised build"
-CARGO_ENCODED_RUSTFLAGS="-Cprofile-use=$PWD/target/pgo/quasar.profdata" cargo build --profile dist --bin quasar \
-  --target-dir target/pgo/use
-cp target/pgo/use/dist/quasar target/pgo/quasar
-echo "target/pgo/quasar"
+CARGO_ENCODED_RUSTFLAGS="-Cprofile-use=$PWD/$merged" cargo build --profile dist --bin quasar \
+  --target-dir "$pgo/use"
+cp "$pgo/use/dist/quasar" "$pgo/quasar"
+echo "$pgo/quasar"
