@@ -12,6 +12,7 @@
 
 use std::collections::BTreeMap;
 
+use super::scratch::Scratch;
 use super::{Channel, N_QUANTITIES, Quantity};
 
 /// Side in pixels of the finest blocks of [`BlockBatches`] and of the block z-test.
@@ -57,6 +58,24 @@ pub struct BlockBatches {
     pub levels: Vec<BlockLevel>,
     /// Batches added.
     pub batches: u64,
+    /// The working lists of a batch, kept for the next one.
+    lists: Scratch<BatchLists>,
+}
+
+/// Sums of one quantity vector per block and the pixels they hold.
+type BlockSums = Vec<([f64; N_QUANTITIES], u32)>;
+
+/// The working lists of [`BlockBatches::add`], kept between batches.
+#[derive(Default)]
+struct BatchLists {
+    /// Per pixel and quantity: a batch's luminance (the film's, see [`BlockBatches::take_luminances`]).
+    y: Vec<[f64; N_QUANTITIES]>,
+    /// The block sums of the level being summed.
+    block: BlockSums,
+    /// The block sums of the level before it.
+    finer: BlockSums,
+    /// The finest level's block column of every pixel column.
+    col_of: Vec<usize>,
 }
 
 impl BlockBatches {
@@ -75,7 +94,7 @@ impl BlockBatches {
                 }
             })
             .collect();
-        Self { width, height, levels, batches: 0 }
+        Self { width, height, levels, batches: 0, lists: Scratch::default() }
     }
 
     /// Adds one batch: `y[pixel][quantity]`, one sample per pixel, row-major. The finest
@@ -83,15 +102,17 @@ impl BlockBatches {
     /// from the 2 x 2 blocks of the level before it.
     pub fn add(&mut self, y: &[[f64; N_QUANTITIES]]) {
         let w = self.width;
-        let mut sums: Vec<([f64; N_QUANTITIES], u32)> = Vec::new();
+        let BatchLists { block, finer, col_of, .. } = &mut self.lists.0;
         let mut finer_cols = 0;
         for (li, level) in self.levels.iter_mut().enumerate() {
-            let mut block = vec![([0.0f64; N_QUANTITIES], 0u32); level.cols * level.rows];
+            block.clear();
+            block.resize(level.cols * level.rows, ([0.0f64; N_QUANTITIES], 0u32));
             if li == 0 {
-                let col_of: Vec<usize> = (0..w).map(|x| x / level.size).collect();
+                col_of.clear();
+                col_of.extend((0..w).map(|x| x / level.size));
                 for (row, pixels) in y.chunks(w.max(1)).enumerate() {
                     let base = (row / level.size) * level.cols;
-                    for (v, &c) in pixels.iter().zip(&col_of) {
+                    for (v, &c) in pixels.iter().zip(col_of.iter()) {
                         let b = &mut block[base + c];
                         b.1 += 1;
                         for (acc, x) in b.0.iter_mut().zip(v) {
@@ -100,7 +121,7 @@ impl BlockBatches {
                     }
                 }
             } else {
-                for (i, s) in sums.iter().enumerate() {
+                for (i, s) in finer.iter().enumerate() {
                     let b = &mut block[(i / finer_cols / 2) * level.cols + (i % finer_cols) / 2];
                     b.1 += s.1;
                     for (acc, x) in b.0.iter_mut().zip(&s.0) {
@@ -116,10 +137,26 @@ impl BlockBatches {
                     level.sum_sq[b][q] += m * m;
                 }
             }
-            sums = block;
+            std::mem::swap(block, finer);
             finer_cols = level.cols;
         }
         self.batches += 1;
+    }
+
+    /// A list of one luminance vector per pixel for the next batch: the last batch's list,
+    /// resized, with stale values wherever the caller does not write (it must write every
+    /// pixel). Give it back with [`add_luminances`](Self::add_luminances).
+    pub(super) fn take_luminances(&mut self) -> Vec<[f64; N_QUANTITIES]> {
+        let mut y = std::mem::take(&mut self.lists.0.y);
+        y.resize(self.width * self.height, [0.0; N_QUANTITIES]);
+        y
+    }
+
+    /// [`add`](Self::add) of a list from [`take_luminances`](Self::take_luminances), which is
+    /// kept for the next batch.
+    pub(super) fn add_luminances(&mut self, y: Vec<[f64; N_QUANTITIES]>) {
+        self.add(&y);
+        self.lists.0.y = y;
     }
 
     /// Adds the statistics of disjoint batches of the same image (a shard, a resumed part).

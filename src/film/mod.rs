@@ -3,6 +3,7 @@
 
 mod blocks;
 mod layers;
+mod scratch;
 mod spectral;
 
 pub use blocks::{BLOCK_BASE, BlockBatches, BlockLevel, block_sizes};
@@ -272,16 +273,24 @@ impl Film {
     /// the batch's block means.
     pub fn add_batch(&mut self, sample: impl Fn(usize) -> (LayeredRadiance, SampledWavelengths) + Sync) {
         let w = self.width as usize;
-        let mut y = vec![[0.0f64; N_QUANTITIES]; self.pixels.len()];
+        let Some(mut blocks) = self.blocks.take() else {
+            self.rows_mut().enumerate().for_each(|(r, mut row)| {
+                for x in 0..row.width() {
+                    let (l, wl) = sample(r * w + x);
+                    row.add(x, &l, &wl);
+                }
+            });
+            return;
+        };
+        let mut y = blocks.take_luminances();
         self.rows_mut().zip(y.par_chunks_mut(w.max(1))).enumerate().for_each(|(r, (mut row, y))| {
             for (x, y) in y.iter_mut().enumerate() {
                 let (l, wl) = sample(r * w + x);
                 *y = row.add(x, &l, &wl);
             }
         });
-        if let Some(b) = &mut self.blocks {
-            b.add(&y);
-        }
+        blocks.add_luminances(y);
+        self.blocks = Some(blocks);
     }
 
     /// Mean luminance of `q` at pixel `i`.

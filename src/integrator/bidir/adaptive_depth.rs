@@ -41,6 +41,24 @@ pub struct GatherDepths {
     depth_count: Vec<u32>,
 }
 
+/// The most frequent depth of a histogram (ties: the smaller depth; none seen: 0).
+fn mode_of(c: &[u32; BINS]) -> usize {
+    let mut best = 0;
+    for d in 1..c.len() {
+        if c[d] > c[best] {
+            best = d;
+        }
+    }
+    best
+}
+
+/// True when `remaining` more pilots, however they fall, cannot change the mode of `c`: it
+/// leads every other depth by more than `remaining`.
+fn mode_is_settled(c: &[u32; BINS], remaining: u32) -> bool {
+    let best = mode_of(c);
+    c.iter().enumerate().all(|(d, &n)| d == best || n + remaining < c[best])
+}
+
 impl GatherDepths {
     /// No pilots yet, for `pixels` pixels.
     pub fn new(pixels: usize) -> Self {
@@ -49,27 +67,31 @@ impl GatherDepths {
 
     /// The most frequent depth of pixel `i` (ties: the smaller depth; none seen: 0).
     fn mode(&self, i: usize) -> u32 {
-        let c = &self.histogram[i];
-        let mut best = 0;
-        for d in 1..c.len() {
-            if c[d] > c[best] {
-                best = d;
-            }
-        }
-        best as u32
+        mode_of(&self.histogram[i]) as u32
     }
 
-    fn add(&mut self, pilots: Vec<Option<u32>>) {
-        for (c, d) in self.histogram.iter_mut().zip(pilots) {
-            if let Some(d) = d {
+    /// Traces pilot `stream` (0..=[`PILOT_ITERATIONS`], in order) of every pixel whose mode
+    /// it can still change, `pilot(i)` for pixel i, into the histograms. This pilot and those
+    /// after it are `remaining` = `PILOT_ITERATIONS + 1 - stream`; a pixel whose mode leads
+    /// every other depth by more than that is skipped: no sequence of the remaining pilots
+    /// could change its mode (ties go to the smaller depth, so a lead of exactly that many
+    /// could), neither now nor after any of them, so every iteration's depth is the one the
+    /// full pilots would choose.
+    fn add_pilots(&mut self, stream: u32, pilot: impl Fn(usize) -> Option<u32> + Sync) {
+        let remaining = PILOT_ITERATIONS + 1 - stream;
+        self.histogram.par_iter_mut().enumerate().for_each(|(i, c)| {
+            if mode_is_settled(c, remaining) {
+                return;
+            }
+            if let Some(d) = pilot(i) {
                 c[d as usize] += 1;
             }
-        }
+        });
     }
 
-    /// The gather depth of every pixel for iteration `k` (at its wavelengths `wl`), after
-    /// tracing the pilot paths of the iterations before it that are not in the histogram yet
-    /// (`wl_of` gives their wavelengths).
+    /// The gather depth of every pixel for iteration `k` (at its wavelengths `wl`) into
+    /// `depths`, after tracing the pilot paths of the iterations before it that are not in the
+    /// histogram yet (`wl_of` gives their wavelengths).
     #[allow(clippy::too_many_arguments)]
     pub fn for_iteration(
         &mut self,
@@ -80,7 +102,8 @@ impl GatherDepths {
         seed: u64,
         k: u32,
         wl_of: impl Fn(u32) -> SampledWavelengths,
-    ) -> Vec<Option<u32>> {
+        depths: &mut Vec<Option<u32>>,
+    ) {
         let n = self.histogram.len();
         let w = camera.width() as usize;
         let pilot = |i: usize, stream_seed: u64, k: u32, wl: SampledWavelengths, max_depth: u32| {
@@ -88,12 +111,13 @@ impl GatherDepths {
             let film_pos = Vec2::new((i % w) as f32, (i / w) as f32) + sampler.get_2d();
             pilot_gather_depth(scene, camera.ray(film_pos), wl, &mut sampler, rule, max_depth)
         };
+        depths.clear();
         match settings.depth {
-            GatherDepth::Fixed(d) => vec![Some(d); n],
+            GatherDepth::Fixed(d) => depths.resize(n, Some(d)),
             GatherDepth::Adaptive { max_depth, paper: true } => {
                 // the iteration's own stream: the same first camera ray as the estimate
                 let wl = wl_of(k);
-                (0..n).into_par_iter().map(|i| pilot(i, seed, k, wl, max_depth)).collect()
+                (0..n).into_par_iter().map(|i| pilot(i, seed, k, wl, max_depth)).collect_into_vec(depths);
             }
             GatherDepth::Adaptive { max_depth, paper: false } => {
                 let pilot_seed = mix64(seed ^ 0x0070_696c_6f74);
@@ -103,24 +127,20 @@ impl GatherDepths {
                     let j = self.pilots + 1;
                     let wl = wl_of(j);
                     if j == 1 {
-                        let first = (0..n).into_par_iter().map(|i| pilot(i, pilot_seed, 0, wl, max_depth)).collect();
-                        self.add(first);
+                        self.add_pilots(0, |i| pilot(i, pilot_seed, 0, wl, max_depth));
                     }
                     if j == k {
                         break;
                     }
-                    let next = (0..n).into_par_iter().map(|i| pilot(i, pilot_seed, j, wl, max_depth)).collect();
-                    self.add(next);
+                    self.add_pilots(j, |i| pilot(i, pilot_seed, j, wl, max_depth));
                     self.pilots = j;
                 }
-                let chosen = (0..n).map(|i| Some(self.mode(i))).collect();
+                depths.extend((0..n).map(|i| Some(self.mode(i))));
                 if k <= PILOT_ITERATIONS && self.pilots < k {
                     let wl = wl_of(k);
-                    let next = (0..n).into_par_iter().map(|i| pilot(i, pilot_seed, k, wl, max_depth)).collect();
-                    self.add(next);
+                    self.add_pilots(k, |i| pilot(i, pilot_seed, k, wl, max_depth));
                     self.pilots = k;
                 }
-                chosen
             }
         }
     }
@@ -177,5 +197,56 @@ impl GatherDepths {
             s.depth_count[i] = r.u32()?;
         }
         Ok(s)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every sequence of `remaining` pilots, as depths: every depth's count after each of them.
+    fn modes_after_every_sequence(c: &[u32; BINS], remaining: u32, seen: &mut Vec<usize>) {
+        seen.push(mode_of(c));
+        if remaining > 0 {
+            for d in 0..BINS {
+                let mut next = *c;
+                next[d] += 1;
+                modes_after_every_sequence(&next, remaining - 1, seen);
+            }
+        }
+    }
+
+    #[test]
+    fn a_settled_mode_survives_every_sequence_of_the_remaining_pilots() {
+        let mut rng = crate::core::sampling::Sampler::new(3, 1, 4);
+        let (mut settled, mut open) = (0, 0);
+        for _ in 0..400 {
+            let mut c = [0u32; BINS];
+            for _ in 0..(rng.get_1d() * 12.0) as usize {
+                // pilots bunched at a few depths, as a pixel's are
+                c[((rng.get_1d() * rng.get_1d()) * BINS as f32) as usize] += 1;
+            }
+            let remaining = (rng.get_1d() * 4.0) as u32;
+            let mut modes = Vec::new();
+            modes_after_every_sequence(&c, remaining, &mut modes);
+            let fixed = modes.iter().all(|&m| m == mode_of(&c));
+            if mode_is_settled(&c, remaining) {
+                assert!(fixed, "{c:?} with {remaining} to come was taken as settled");
+                settled += 1;
+            } else {
+                open += 1;
+            }
+        }
+        assert!(settled > 50 && open > 50, "{settled} settled, {open} open: the cases do not test both sides");
+    }
+
+    #[test]
+    fn a_tie_the_remaining_pilots_could_reach_is_not_settled() {
+        // depth 3 leads depth 1 by 2; two more pilots at depth 1 tie it, and a tie goes to the
+        // smaller depth
+        let mut c = [0u32; BINS];
+        (c[1], c[3]) = (4, 6);
+        assert!(!mode_is_settled(&c, 2));
+        assert!(mode_is_settled(&c, 1));
     }
 }

@@ -4,7 +4,7 @@
 use glam::{IVec3, Vec3};
 use rayon::prelude::*;
 
-use super::ranges::{ByRange, split_by_lengths};
+use super::ranges::{ByRange, for_each_part};
 
 /// Spatial hash of visibility points with per-point radii, built once per iteration.
 pub struct VisibilityGrid {
@@ -14,6 +14,28 @@ pub struct VisibilityGrid {
     /// `starts[b]..starts[b + 1]` indexes `entries` for bucket b.
     starts: Vec<u32>,
     entries: Vec<u32>,
+    /// The build's working lists, kept for the next build.
+    lists: BuildLists,
+}
+
+/// The working lists of [`VisibilityGrid::rebuild`].
+#[derive(Default)]
+struct BuildLists {
+    /// The valid radii (for their median).
+    radii: Vec<f32>,
+    /// Per chunk of points.
+    chunks: Vec<ChunkPairs>,
+    /// Where each bucket range's entries start (one more entry than ranges).
+    range_start: Vec<usize>,
+}
+
+/// The (bucket, point) pairs of one chunk of points, grouped by bucket range.
+#[derive(Default)]
+struct ChunkPairs {
+    pairs: Vec<(u32, u32)>,
+    /// The distinct buckets of the point being entered.
+    mine: Vec<u32>,
+    grouped: ByRange<(u32, u32)>,
 }
 
 #[inline]
@@ -47,12 +69,21 @@ impl VisibilityGrid {
 
     /// A grid over no points.
     pub fn empty() -> Self {
-        Self { origin: Vec3::ZERO, inv_cell: 1.0, mask: 0, starts: vec![0, 0], entries: Vec::new() }
+        Self {
+            origin: Vec3::ZERO,
+            inv_cell: 1.0,
+            mask: 0,
+            starts: vec![0, 0],
+            entries: Vec::new(),
+            lists: BuildLists::default(),
+        }
     }
 
     /// [`build`](Self::build) into this grid's tables (an iteration reuses the last one's).
     pub fn rebuild(&mut self, points: &[(Vec3, f32)]) {
-        let mut radii: Vec<f32> = points.iter().map(|p| p.1).filter(|r| r.is_finite() && *r > 0.0).collect();
+        let BuildLists { radii, chunks, range_start } = &mut self.lists;
+        radii.clear();
+        radii.extend(points.iter().map(|p| p.1).filter(|r| r.is_finite() && *r > 0.0));
         if radii.is_empty() {
             (self.origin, self.inv_cell, self.mask) = (Vec3::ZERO, 1.0, 0);
             self.starts.clear();
@@ -77,60 +108,63 @@ impl VisibilityGrid {
         // by bucket range: chunks of points in parallel
         let shift = buckets.trailing_zeros().saturating_sub(BUCKET_RANGES.trailing_zeros());
         let ranges = (buckets >> shift) as usize;
-        let chunks: Vec<ByRange<(u32, u32)>> = points
-            .par_chunks(GRID_CHUNK)
-            .enumerate()
-            .map(|(c, chunk)| {
-                let mut pairs = Vec::with_capacity(chunk.len() * 8);
-                let mut mine: Vec<u32> = Vec::new();
-                for (j, (p, r)) in chunk.iter().enumerate() {
-                    if !(r.is_finite() && *r > 0.0) {
-                        continue;
-                    }
-                    // both corners are >= 0 (lo is the least corner, rounded the same way), so
-                    // truncation is the floor
-                    let a = ((*p - Vec3::splat(*r) - lo) * inv_cell).as_ivec3();
-                    let b = ((*p + Vec3::splat(*r) - lo) * inv_cell).as_ivec3();
-                    // distinct buckets only (cells of one point rarely share a bucket)
-                    mine.clear();
-                    for z in a.z..=b.z {
-                        for y in a.y..=b.y {
-                            for x in a.x..=b.x {
-                                let bk = (hash_cell(IVec3::new(x, y, z)) & mask) as u32;
-                                if !mine.contains(&bk) {
-                                    mine.push(bk);
-                                }
+        chunks.resize_with(points.len().div_ceil(GRID_CHUNK), ChunkPairs::default);
+        chunks.par_iter_mut().zip(points.par_chunks(GRID_CHUNK)).enumerate().for_each(|(c, (lists, chunk))| {
+            let ChunkPairs { pairs, mine, grouped } = lists;
+            pairs.clear();
+            pairs.reserve(chunk.len() * 8);
+            for (j, (p, r)) in chunk.iter().enumerate() {
+                if !(r.is_finite() && *r > 0.0) {
+                    continue;
+                }
+                // both corners are >= 0 (lo is the least corner, rounded the same way), so
+                // truncation is the floor
+                let a = ((*p - Vec3::splat(*r) - lo) * inv_cell).as_ivec3();
+                let b = ((*p + Vec3::splat(*r) - lo) * inv_cell).as_ivec3();
+                // distinct buckets only (cells of one point rarely share a bucket)
+                mine.clear();
+                for z in a.z..=b.z {
+                    for y in a.y..=b.y {
+                        for x in a.x..=b.x {
+                            let bk = (hash_cell(IVec3::new(x, y, z)) & mask) as u32;
+                            if !mine.contains(&bk) {
+                                mine.push(bk);
                             }
                         }
                     }
-                    let i = (c * GRID_CHUNK + j) as u32;
-                    pairs.extend(mine.iter().map(|&bk| (bk, i)));
                 }
-                ByRange::group(&pairs, ranges, |&(bk, _)| (bk >> shift) as usize)
-            })
-            .collect();
+                let i = (c * GRID_CHUNK + j) as u32;
+                pairs.extend(mine.iter().map(|&bk| (bk, i)));
+            }
+            grouped.regroup(pairs, ranges, |&(bk, _)| (bk >> shift) as usize);
+        });
         // where each range's entries start: the ranges in order, each holding its pairs of
         // every chunk
-        let mut range_start = vec![0usize; ranges + 1];
+        range_start.clear();
+        range_start.push(0);
         for r in 0..ranges {
-            range_start[r + 1] = range_start[r] + chunks.iter().map(|c| c.of(r).len()).sum::<usize>();
+            range_start.push(range_start[r] + chunks.iter().map(|c| c.grouped.of(r).len()).sum::<usize>());
         }
         let total = range_start[ranges];
         // every entry and start is overwritten below (`resize` writes only what a table grows by)
         self.entries.resize(total, 0);
         self.starts.resize(buckets as usize + 1, 0);
-        let range_entries = split_by_lengths(&mut self.entries, range_start.windows(2).map(|w| w[1] - w[0]));
         // a counting sort per range, in parallel: a range's buckets and entries are its own,
         // and its pairs arrive in chunk order, so every bucket lists its points in point order
-        self.starts[..buckets as usize]
-            .par_chunks_mut(1 << shift)
-            .zip(range_entries.into_par_iter())
-            .enumerate()
-            .for_each(|(r, (starts, entries))| {
+        let (chunks, range_start) = (&*chunks, &*range_start);
+        for_each_part(
+            (&mut self.starts[..buckets as usize], &mut self.entries[..]),
+            0..ranges,
+            &|(starts, entries): (&mut [u32], &mut [u32]), lo, mid| {
+                let (s0, s1) = starts.split_at_mut((mid - lo) << shift);
+                let (e0, e1) = entries.split_at_mut(range_start[mid] - range_start[lo]);
+                ((s0, e0), (s1, e1))
+            },
+            &|r, (starts, entries)| {
                 let first_bucket = (r << shift) as u32;
                 starts.fill(0);
-                for c in &chunks {
-                    for &(bk, _) in c.of(r) {
+                for c in chunks {
+                    for &(bk, _) in c.grouped.of(r) {
                         starts[(bk - first_bucket) as usize] += 1;
                     }
                 }
@@ -139,8 +173,8 @@ impl VisibilityGrid {
                     (*s, sum) = (sum, sum + *s);
                 }
                 // `starts` serves as each bucket's fill position, ending at the next one's start
-                for c in &chunks {
-                    for &(bk, i) in c.of(r) {
+                for c in chunks {
+                    for &(bk, i) in c.grouped.of(r) {
                         let fill = &mut starts[(bk - first_bucket) as usize];
                         entries[*fill as usize] = i;
                         *fill += 1;
@@ -150,7 +184,8 @@ impl VisibilityGrid {
                 for k in (0..starts.len()).rev() {
                     starts[k] = base + if k == 0 { 0 } else { starts[k - 1] };
                 }
-            });
+            },
+        );
         self.starts[buckets as usize] = total as u32;
         (self.origin, self.inv_cell, self.mask) = (lo, inv_cell, mask);
     }

@@ -15,7 +15,7 @@ use rayon::prelude::*;
 use super::coverage;
 use super::grid::VisibilityGrid;
 use super::photon_pass::{self, GatherRadii, PhotonSums, trace_photons};
-use super::ranges::split_by_lengths;
+use super::ranges::for_each_part;
 use super::settings::VismapSettings;
 use super::visibility_point::{CameraPathResult, GatherRule, VisibilityPoint, trace_camera_path};
 use crate::core::camera::Camera;
@@ -44,14 +44,36 @@ pub const RADIUS_PILOT_PHOTONS: f32 = 8.0;
 /// The automatic radius is not shrunk below this share of its pixel-footprint default.
 pub const MIN_RADIUS_SCALE: f32 = 0.1;
 
-/// One camera batch's share of an iteration's lists, filled by one parallel task.
-struct BatchSlots<'a, 's> {
-    paths: &'a mut [CameraPathResult],
+/// The camera paths of one batch of pixels and their visibility points, refilled every
+/// iteration.
+#[derive(Default)]
+struct CameraBatch<'s> {
+    paths: Vec<CameraPathResult>,
+    points: Vec<VisibilityPoint<'s>>,
+}
+
+/// The per-point lists of an iteration, or one camera batch's part of them.
+struct PointLists<'a, 's> {
     points: &'a mut [VisibilityPoint<'s>],
     owners: &'a mut [usize],
     point_wl: &'a mut [SampledWavelengths],
     radii: &'a mut [GatherRadii],
     grid_input: &'a mut [(glam::Vec3, f32)],
+}
+
+impl PointLists<'_, '_> {
+    /// The lists cut before point `at`.
+    fn split_at(self, at: usize) -> (Self, Self) {
+        let (p0, p1) = self.points.split_at_mut(at);
+        let (o0, o1) = self.owners.split_at_mut(at);
+        let (w0, w1) = self.point_wl.split_at_mut(at);
+        let (r0, r1) = self.radii.split_at_mut(at);
+        let (g0, g1) = self.grid_input.split_at_mut(at);
+        (
+            PointLists { points: p0, owners: o0, point_wl: w0, radii: r0, grid_input: g0 },
+            PointLists { points: p1, owners: o1, point_wl: w1, radii: r1, grid_input: g1 },
+        )
+    }
 }
 
 /// One iteration's passes: camera paths with their visibility points, the grid over them and
@@ -72,8 +94,6 @@ pub struct Iteration {
 /// What [`Iteration::run`] produced. A render keeps one and hands it to every iteration, which
 /// refills its lists in place: an iteration allocates no image-sized storage of its own.
 pub struct IterationResult<'s> {
-    /// One camera path per pixel.
-    pub paths: Vec<CameraPathResult>,
     /// The pixel of every visibility point.
     pub owners: Vec<usize>,
     /// The visibility points.
@@ -91,6 +111,11 @@ pub struct IterationResult<'s> {
     /// The grid's input: point positions and radii.
     grid_input: Vec<(glam::Vec3, f32)>,
     grid: VisibilityGrid,
+    /// The camera paths of every batch of [`CAMERA_BATCH`] pixels with their points (which
+    /// are joined into `points` in pixel order).
+    batches: Vec<CameraBatch<'s>>,
+    /// Where each batch's points start in `points` (one more entry than batches).
+    batch_first_point: Vec<usize>,
     /// Where each pixel's points start in `points` (one more entry than pixels).
     first_point: Vec<usize>,
 }
@@ -98,16 +123,17 @@ pub struct IterationResult<'s> {
 impl Default for IterationResult<'_> {
     fn default() -> Self {
         Self {
-            paths: Vec::new(),
             owners: Vec::new(),
             points: Vec::new(),
             radii: Vec::new(),
-            photons: photon_pass::PhotonPassResult { sums: Vec::new(), lookups: 0 },
+            photons: photon_pass::PhotonPassResult::default(),
             grid_bytes: 0,
             seconds: PhaseSeconds::default(),
             point_wl: Vec::new(),
             grid_input: Vec::new(),
             grid: VisibilityGrid::empty(),
+            batches: Vec::new(),
+            batch_first_point: Vec::new(),
             first_point: Vec::new(),
         }
     }
@@ -182,37 +208,48 @@ impl Iteration {
             clock = now;
         };
         // batches of pixels, each with one list of visibility points, joined in pixel order
-        let batches: Vec<(Vec<CameraPathResult>, Vec<VisibilityPoint>)> = (0..depths.len().div_ceil(CAMERA_BATCH))
-            .into_par_iter()
-            .map(|b| {
-                let pixels = b * CAMERA_BATCH..((b + 1) * CAMERA_BATCH).min(depths.len());
-                let mut paths = Vec::with_capacity(pixels.len());
-                let mut points = Vec::with_capacity(pixels.len());
-                for i in pixels {
-                    let mut sampler = Sampler::new(self.seed, i as u64, self.k as u64);
-                    let film_pos = Vec2::new((i % w) as f32, (i / w) as f32) + sampler.get_2d();
-                    let rule = GatherRule { depth: depths[i].unwrap_or(0), ..*base_rule };
-                    paths.push(trace_camera_path(
-                        scene,
-                        camera.ray(film_pos),
-                        self.wl,
-                        &mut sampler,
-                        &rule,
-                        &mut points,
-                    ));
-                }
-                (paths, points)
-            })
-            .collect();
-        let IterationResult { paths, owners, points, radii, photons, point_wl, grid_input, grid, .. } = out;
-        // the batches joined in parallel into the reused lists (`resize` writes only the
-        // entries a list grows by: every entry is overwritten below)
-        let n_points: usize = batches.iter().map(|b| b.1.len()).sum();
-        match batches.iter().find_map(|b| b.0.first()) {
-            Some(&path) => paths.resize(depths.len(), path),
-            None => paths.clear(),
+        let IterationResult {
+            batches,
+            batch_first_point,
+            owners,
+            points,
+            radii,
+            photons,
+            point_wl,
+            grid_input,
+            grid,
+            ..
+        } = out;
+        batches.resize_with(depths.len().div_ceil(CAMERA_BATCH), CameraBatch::default);
+        batches.par_iter_mut().enumerate().for_each(|(b, batch)| {
+            batch.paths.clear();
+            batch.points.clear();
+            batch.paths.reserve(CAMERA_BATCH);
+            batch.points.reserve(CAMERA_BATCH);
+            let pixels = b * CAMERA_BATCH..((b + 1) * CAMERA_BATCH).min(depths.len());
+            for (i, depth) in pixels.clone().zip(&depths[pixels]) {
+                let mut sampler = Sampler::new(self.seed, i as u64, self.k as u64);
+                let film_pos = Vec2::new((i % w) as f32, (i / w) as f32) + sampler.get_2d();
+                let rule = GatherRule { depth: depth.unwrap_or(0), ..*base_rule };
+                batch.paths.push(trace_camera_path(
+                    scene,
+                    camera.ray(film_pos),
+                    self.wl,
+                    &mut sampler,
+                    &rule,
+                    &mut batch.points,
+                ));
+            }
+        });
+        batch_first_point.clear();
+        batch_first_point.push(0);
+        for b in batches.iter() {
+            batch_first_point.push(batch_first_point[batch_first_point.len() - 1] + b.points.len());
         }
-        match batches.iter().find_map(|b| b.1.first()) {
+        // the batches' points joined in parallel into the reused lists (`resize` writes only
+        // the entries a list grows by: every entry is overwritten below)
+        let n_points = batch_first_point[batches.len()];
+        match batches.iter().find_map(|b| b.points.first()) {
             Some(&vp) => points.resize(n_points, vp),
             None => points.clear(),
         }
@@ -224,27 +261,16 @@ impl Iteration {
         let unmeasured = GatherRadii { indirect: 0.0, caustic: 0.0, indirect_coverage: 1.0, caustic_coverage: 1.0 };
         radii.resize(n_points, unmeasured);
         grid_input.resize(n_points, (glam::Vec3::ZERO, 0.0));
-        let lens = || batches.iter().map(|b| b.1.len());
-        let mut parts = (
-            split_by_lengths(paths, batches.iter().map(|b| b.0.len())).into_iter(),
-            split_by_lengths(points, lens()).into_iter(),
-            split_by_lengths(owners, lens()).into_iter(),
-            split_by_lengths(point_wl, lens()).into_iter(),
-            split_by_lengths(radii, lens()).into_iter(),
-            split_by_lengths(grid_input, lens()).into_iter(),
-        );
-        let mut slots = Vec::with_capacity(batches.len());
-        while let (Some(paths), Some(points), Some(owners), Some(point_wl), Some(radii), Some(grid_input)) =
-            (parts.0.next(), parts.1.next(), parts.2.next(), parts.3.next(), parts.4.next(), parts.5.next())
-        {
-            slots.push(BatchSlots { paths, points, owners, point_wl, radii, grid_input });
-        }
-        slots.into_par_iter().zip(batches.par_iter()).enumerate().for_each(
-            |(b, (slot, (batch_paths, batch_points)))| {
-                slot.paths.copy_from_slice(batch_paths);
-                slot.points.copy_from_slice(batch_points);
+        let (batches, first) = (&*batches, &*batch_first_point);
+        for_each_part(
+            PointLists { points, owners, point_wl, radii, grid_input },
+            0..batches.len(),
+            &|lists: PointLists, lo, mid| lists.split_at(first[mid] - first[lo]),
+            &|b, slot| {
+                let batch = &batches[b];
+                slot.points.copy_from_slice(&batch.points);
                 let mut j = 0;
-                for (i, p) in batch_paths.iter().enumerate() {
+                for (i, p) in batch.paths.iter().enumerate() {
                     let n = p.points as usize;
                     slot.owners[j..j + n].fill(b * CAMERA_BATCH + i);
                     slot.point_wl[j..j + n].fill(p.wl);
@@ -260,7 +286,7 @@ impl Iteration {
         lap(&mut seconds.camera);
         grid.rebuild(grid_input);
         lap(&mut seconds.grid);
-        photons.lookups = trace_photons(
+        trace_photons(
             scene,
             &self.wl,
             points,
@@ -271,7 +297,7 @@ impl Iteration {
             self.photon_seed,
             self.k,
             base_rule.cone_cos,
-            &mut photons.sums,
+            photons,
         );
         lap(&mut seconds.photons);
         radii.par_iter_mut().enumerate().filter(|(j, _)| photons.sums[*j].photons > 0).for_each(|(j, g)| {
@@ -362,13 +388,13 @@ impl IterationResult<'_> {
         let first = &mut self.first_point;
         first.clear();
         first.push(0usize);
-        for p in &self.paths {
+        for p in self.batches.iter().flat_map(|b| &b.paths) {
             first.push(first[first.len() - 1] + p.points as usize);
         }
-        let (paths, first, points, sums, radii) =
-            (&self.paths, &self.first_point, &self.points, &self.photons.sums, &self.radii);
+        let (batches, first, points, sums, radii) =
+            (&self.batches, &self.first_point, &self.points, &self.photons.sums, &self.radii);
         move |i| {
-            let p = &paths[i];
+            let p = &batches[i / CAMERA_BATCH].paths[i % CAMERA_BATCH];
             let mut l = p.radiance;
             for j in first[i]..first[i + 1] {
                 let vp = &points[j];

@@ -57,6 +57,8 @@ pub struct Bidirectional<'s> {
     pub stats: VismapStats,
     /// The last iteration's lists, refilled by the next.
     result: IterationResult<'s>,
+    /// The last iteration's gather depths, refilled by the next.
+    iteration_depths: Vec<Option<u32>>,
 }
 
 impl<'s> Bidirectional<'s> {
@@ -77,6 +79,7 @@ impl<'s> Bidirectional<'s> {
             first_depths: None,
             stats: VismapStats::default(),
             result: IterationResult::default(),
+            iteration_depths: Vec::new(),
         }
     }
 
@@ -88,13 +91,14 @@ impl<'s> Bidirectional<'s> {
         SampledWavelengths::sample_visible(iteration_wavelength_u(self.seed, k))
     }
 
-    /// The depths of iteration `k` (pilots of earlier iterations caught up), and the radius
-    /// pilot (with iteration 1's depths) before the first.
-    fn depths_for(&mut self, k: u32) -> Vec<Option<u32>> {
+    /// The depths of iteration `k` into `depths` (pilots of earlier iterations caught up),
+    /// and the radius pilot (with iteration 1's depths) before the first.
+    fn depths_for(&mut self, k: u32, depths: &mut Vec<Option<u32>>) {
         let (scene, camera, seed, settings, rule) = (self.scene, self.camera, self.seed, self.settings, self.rule);
         let wl_of = |j| SampledWavelengths::sample_visible(iteration_wavelength_u(seed, j));
         if self.radius_scales.is_none() {
-            let first = self.depths.for_iteration(scene, camera, &settings, &rule, seed, 1, wl_of);
+            let mut first = Vec::new();
+            self.depths.for_iteration(scene, camera, &settings, &rule, seed, 1, wl_of, &mut first);
             let scales =
                 radius_pilot(scene, camera, &settings, &rule, &first, seed, self.photon_seed(), self.n_photons);
             self.radius_scales = Some(scales);
@@ -103,16 +107,18 @@ impl<'s> Bidirectional<'s> {
         if k == 1
             && let Some(d) = self.first_depths.take()
         {
-            return d;
+            *depths = d;
+            return;
         }
         self.first_depths = None;
-        self.depths.for_iteration(scene, camera, &settings, &rule, seed, k, wl_of)
+        self.depths.for_iteration(scene, camera, &settings, &rule, seed, k, wl_of, depths);
     }
 
     /// Renders iteration `k` into `film`.
     fn iteration(&mut self, film: &mut Film, k: u32) {
         let t = Instant::now();
-        let depths = self.depths_for(k);
+        let mut depths = std::mem::take(&mut self.iteration_depths);
+        self.depths_for(k, &mut depths);
         let pilots = t.elapsed().as_secs_f64();
         let (settings, n_photons) = (self.settings, self.n_photons);
         let pixel_angle = self.camera.pixel_solid_angle().sqrt();
@@ -135,6 +141,7 @@ impl<'s> Bidirectional<'s> {
         s.photon_seconds += t.elapsed().as_secs_f64();
         s.photons += n_photons;
         s.lookups += result.photons.lookups;
+        self.iteration_depths = depths;
     }
 }
 

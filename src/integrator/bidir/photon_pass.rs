@@ -72,20 +72,31 @@ struct Deposit {
     value: SampledSpectrum,
 }
 
-/// What one photon pass produced.
+/// What one photon pass produced. A render keeps one and hands it to every iteration's pass,
+/// which refills its lists in place.
+#[derive(Default)]
 pub struct PhotonPassResult {
     /// Per visibility point.
     pub sums: Vec<PhotonSums>,
     /// Photon-surface hits after >= 1 bounce (looked up in the grid).
     pub lookups: u64,
+    /// Every chunk of photons' deposits, kept for the next pass.
+    chunks: Vec<PhotonChunk>,
+}
+
+/// The deposits of one chunk of photons, in photon order and grouped by range of points.
+#[derive(Default)]
+struct PhotonChunk {
+    deposits: Vec<Deposit>,
+    grouped: ByRange<Deposit>,
+    lookups: u64,
 }
 
 /// Traces `n_photons` photons at the iteration's wavelengths `wl` with streams keyed by
-/// (`seed`, `iteration`, photon number) into `sums` (one per visibility point, refilled) and
-/// returns the number of grid lookups. With a
-/// quasi-specular cone (`cone_cos`), bounces inside it keep a photon a caustic photon. The reduction
-/// adds every point's deposits in photon order (ranges of points in parallel), so the result is
-/// the same for any thread count.
+/// (`seed`, `iteration`, photon number) into `out` (its sums one per visibility point). With a
+/// quasi-specular cone (`cone_cos`), bounces inside it keep a photon a caustic photon. The
+/// reduction adds every point's deposits in photon order (ranges of points in parallel), so the
+/// result is the same for any thread count.
 #[allow(clippy::too_many_arguments)]
 pub fn trace_photons(
     scene: &Scene,
@@ -98,33 +109,34 @@ pub fn trace_photons(
     seed: u64,
     iteration: u32,
     cone_cos: Option<f32>,
-    sums: &mut Vec<PhotonSums>,
-) -> u64 {
-    let n_chunks = n_photons.div_ceil(CHUNK as u64);
+    out: &mut PhotonPassResult,
+) {
+    let n_chunks = n_photons.div_ceil(CHUNK as u64) as usize;
     // the points fall into ranges that are summed in parallel; every chunk of photons sorts its
     // deposits by range (stably), so that each range adds its deposits in photon order
     let range = points.len().div_ceil(4 * rayon::current_num_threads()).max(1);
     let n_ranges = points.len().div_ceil(range);
-    let chunks: Vec<(ByRange<Deposit>, u64)> = (0..n_chunks)
-        .into_par_iter()
-        .map(|c| {
-            let mut deposits = Vec::with_capacity(2 * CHUNK);
-            let mut lookups = 0u64;
-            let end = ((c + 1) * CHUNK as u64).min(n_photons);
-            for i in c * CHUNK as u64..end {
-                let mut sampler = Sampler::new(seed, i, iteration as u64);
-                lookups +=
-                    trace_photon(scene, wl, points, point_wl, radii, grid, cone_cos, &mut sampler, &mut deposits);
-            }
-            (ByRange::group(&deposits, n_ranges, |d| d.point as usize / range), lookups)
-        })
-        .collect();
+    let PhotonPassResult { sums, lookups, chunks } = out;
+    chunks.resize_with(n_chunks, PhotonChunk::default);
+    chunks.par_iter_mut().enumerate().for_each(|(c, chunk)| {
+        let (c, deposits) = (c as u64, &mut chunk.deposits);
+        deposits.clear();
+        deposits.reserve(2 * CHUNK);
+        chunk.lookups = 0;
+        let end = ((c + 1) * CHUNK as u64).min(n_photons);
+        for i in c * CHUNK as u64..end {
+            let mut sampler = Sampler::new(seed, i, iteration as u64);
+            chunk.lookups += trace_photon(scene, wl, points, point_wl, radii, grid, cone_cos, &mut sampler, deposits);
+        }
+        chunk.grouped.regroup(deposits, n_ranges, |d| d.point as usize / range);
+    });
     sums.clear();
     sums.resize(points.len(), PhotonSums::default());
+    let chunks = &*chunks;
     sums.par_chunks_mut(range).enumerate().for_each(|(r, sums)| {
         let first = r * range;
-        for (chunk, _) in &chunks {
-            for d in chunk.of(r) {
+        for chunk in chunks {
+            for d in chunk.grouped.of(r) {
                 let sum = &mut sums[d.point as usize - first];
                 sum.photons += 1;
                 let acc = if d.caustic { &mut sum.caustic } else { &mut sum.indirect };
@@ -139,7 +151,7 @@ pub fn trace_photons(
             }
         }
     });
-    chunks.iter().map(|c| c.1).sum()
+    *lookups = chunks.iter().map(|c| c.lookups).sum();
 }
 
 /// One photon path. Returns the number of grid lookups made.

@@ -4,30 +4,55 @@
 //! the result does not depend on the number of threads.
 
 /// One task's items grouped by range, each group in the task's order (a stable counting sort).
+/// Its lists are kept and refilled by [`regroup`](Self::regroup), so a task that runs every
+/// iteration allocates only while its lists still grow.
 pub(crate) struct ByRange<T> {
     items: Vec<T>,
     /// `items[starts[r]..starts[r + 1]]` go to range r.
     starts: Vec<u32>,
 }
 
+impl<T> Default for ByRange<T> {
+    fn default() -> Self {
+        Self { items: Vec::new(), starts: Vec::new() }
+    }
+}
+
 impl<T: Copy> ByRange<T> {
     /// Groups `items` into `n_ranges` ranges by `range_of` (which must be < `n_ranges`).
+    #[cfg(test)]
     pub(crate) fn group(items: &[T], n_ranges: usize, range_of: impl Fn(&T) -> usize) -> Self {
-        let mut starts = vec![0u32; n_ranges + 1];
+        let mut g = Self::default();
+        g.regroup(items, n_ranges, range_of);
+        g
+    }
+
+    /// [`group`](Self::group) into this value's lists.
+    pub(crate) fn regroup(&mut self, items: &[T], n_ranges: usize, range_of: impl Fn(&T) -> usize) {
+        let starts = &mut self.starts;
+        starts.clear();
+        starts.resize(n_ranges + 1, 0);
         for item in items {
             starts[range_of(item) + 1] += 1;
         }
         for r in 0..n_ranges {
             starts[r + 1] += starts[r];
         }
-        let mut fill = starts.clone();
-        let mut grouped = items.to_vec();
+        // every entry is overwritten below (`resize` writes only what the list grows by)
+        match items.first() {
+            Some(&first) => self.items.resize(items.len(), first),
+            None => self.items.clear(),
+        }
+        // `starts[r]` serves as range r's fill position, ending at range r + 1's start
         for &item in items {
-            let f = &mut fill[range_of(&item)];
-            grouped[*f as usize] = item;
+            let f = &mut starts[range_of(&item)];
+            self.items[*f as usize] = item;
             *f += 1;
         }
-        Self { items: grouped, starts }
+        for r in (1..=n_ranges).rev() {
+            starts[r] = starts[r - 1];
+        }
+        starts[0] = 0;
     }
 
     /// The items of range `r`, in the task's order.
@@ -36,17 +61,25 @@ impl<T: Copy> ByRange<T> {
     }
 }
 
-/// `v` cut into consecutive slices of the given lengths (which must add up to `v.len()`), for
-/// filling the parts of one list in parallel.
-pub(crate) fn split_by_lengths<T>(mut v: &mut [T], lengths: impl Iterator<Item = usize>) -> Vec<&mut [T]> {
-    let mut parts = Vec::new();
-    for n in lengths {
-        let (head, tail) = v.split_at_mut(n);
-        parts.push(head);
-        v = tail;
+/// Calls `f(r, part)` for the parts r in `parts` of `whole`, in parallel: `cut(s, lo, mid)`
+/// splits `s`, which holds the parts `lo..hi`, into the parts `lo..mid` and `mid..hi` (a slice
+/// or a tuple of slices at the first item of part `mid`). Halves recursively with
+/// `rayon::join`, so filling the parts of one list in parallel allocates nothing.
+pub(crate) fn for_each_part<S: Send>(
+    whole: S,
+    parts: std::ops::Range<usize>,
+    cut: &(impl Fn(S, usize, usize) -> (S, S) + Sync),
+    f: &(impl Fn(usize, S) + Sync),
+) {
+    match parts.len() {
+        0 => {}
+        1 => f(parts.start, whole),
+        n => {
+            let mid = parts.start + n / 2;
+            let (a, b) = cut(whole, parts.start, mid);
+            rayon::join(|| for_each_part(a, parts.start..mid, cut, f), || for_each_part(b, mid..parts.end, cut, f));
+        }
     }
-    debug_assert!(v.is_empty(), "the lengths do not cover the slice");
-    parts
 }
 
 #[cfg(test)]
@@ -68,11 +101,37 @@ mod tests {
     }
 
     #[test]
-    fn split_parts_have_the_lengths() {
-        let mut v: Vec<u32> = (0..10).collect();
-        let parts = split_by_lengths(&mut v, [3, 0, 5, 2].into_iter());
-        let lens: Vec<usize> = parts.iter().map(|p| p.len()).collect();
-        assert_eq!(lens, [3, 0, 5, 2]);
-        assert_eq!(parts[2], &[3, 4, 5, 6, 7]);
+    fn regrouping_reuses_the_lists_and_forgets_the_last_grouping() {
+        let mut g = ByRange::default();
+        for (n, ranges) in [(500u32, 13usize), (20, 3), (0, 5), (300, 7)] {
+            let items: Vec<(u32, u32)> = (0..n).map(|k| ((k * 7919) % ranges as u32, k)).collect();
+            g.regroup(&items, ranges, |&(r, _)| r as usize);
+            let fresh = ByRange::group(&items, ranges, |&(r, _)| r as usize);
+            for r in 0..ranges {
+                assert_eq!(g.of(r), fresh.of(r), "{n} items, range {r}");
+            }
+            assert_eq!(g.starts, fresh.starts);
+        }
+    }
+
+    #[test]
+    fn every_part_is_visited_once_with_its_items() {
+        let bounds = [0usize, 3, 3, 8, 10, 17];
+        let mut v = vec![usize::MAX; 17];
+        let seen = std::sync::Mutex::new(Vec::new());
+        for_each_part(
+            &mut v[..],
+            0..bounds.len() - 1,
+            &|s: &mut [usize], lo, mid| s.split_at_mut(bounds[mid] - bounds[lo]),
+            &|r, part: &mut [usize]| {
+                assert_eq!(part.len(), bounds[r + 1] - bounds[r], "part {r}");
+                part.fill(r);
+                seen.lock().unwrap().push(r);
+            },
+        );
+        let mut seen = seen.into_inner().unwrap();
+        seen.sort();
+        assert_eq!(seen, [0, 1, 2, 3, 4]);
+        assert_eq!(v, [0, 0, 0, 2, 2, 2, 2, 2, 3, 3, 4, 4, 4, 4, 4, 4, 4]);
     }
 }
