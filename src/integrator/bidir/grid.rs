@@ -23,19 +23,23 @@ pub struct VisibilityGrid {
 struct BuildLists {
     /// The valid radii (for their median).
     radii: Vec<f32>,
-    /// Per chunk of points.
-    chunks: Vec<ChunkPairs>,
+    /// Per chunk of points: its (bucket, point) pairs grouped by bucket range.
+    chunks: Vec<ByRange<(u32, u32)>>,
     /// Where each bucket range's entries start (one more entry than ranges).
     range_start: Vec<usize>,
 }
 
-/// The (bucket, point) pairs of one chunk of points, grouped by bucket range.
-#[derive(Default)]
-struct ChunkPairs {
+/// A chunk's (bucket, point) pairs in point order before they are grouped by bucket range,
+/// and the distinct buckets of the point being entered: one pair of lists per thread, kept, so
+/// that only the grouped pairs stay allocated per chunk.
+struct ChunkLists {
     pairs: Vec<(u32, u32)>,
-    /// The distinct buckets of the point being entered.
     mine: Vec<u32>,
-    grouped: ByRange<(u32, u32)>,
+}
+
+thread_local! {
+    static CHUNK_LISTS: std::cell::RefCell<ChunkLists> =
+        const { std::cell::RefCell::new(ChunkLists { pairs: Vec::new(), mine: Vec::new() }) };
 }
 
 #[inline]
@@ -108,42 +112,44 @@ impl VisibilityGrid {
         // by bucket range: chunks of points in parallel
         let shift = buckets.trailing_zeros().saturating_sub(BUCKET_RANGES.trailing_zeros());
         let ranges = (buckets >> shift) as usize;
-        chunks.resize_with(points.len().div_ceil(GRID_CHUNK), ChunkPairs::default);
-        chunks.par_iter_mut().zip(points.par_chunks(GRID_CHUNK)).enumerate().for_each(|(c, (lists, chunk))| {
-            let ChunkPairs { pairs, mine, grouped } = lists;
-            pairs.clear();
-            pairs.reserve(chunk.len() * 8);
-            for (j, (p, r)) in chunk.iter().enumerate() {
-                if !(r.is_finite() && *r > 0.0) {
-                    continue;
-                }
-                // both corners are >= 0 (lo is the least corner, rounded the same way), so
-                // truncation is the floor
-                let a = ((*p - Vec3::splat(*r) - lo) * inv_cell).as_ivec3();
-                let b = ((*p + Vec3::splat(*r) - lo) * inv_cell).as_ivec3();
-                // distinct buckets only (cells of one point rarely share a bucket)
-                mine.clear();
-                for z in a.z..=b.z {
-                    for y in a.y..=b.y {
-                        for x in a.x..=b.x {
-                            let bk = (hash_cell(IVec3::new(x, y, z)) & mask) as u32;
-                            if !mine.contains(&bk) {
-                                mine.push(bk);
+        chunks.resize_with(points.len().div_ceil(GRID_CHUNK), ByRange::default);
+        chunks.par_iter_mut().zip(points.par_chunks(GRID_CHUNK)).enumerate().for_each(|(c, (grouped, chunk))| {
+            // (a chunk starts no parallel work, so the thread's lists are not borrowed twice)
+            CHUNK_LISTS.with_borrow_mut(|ChunkLists { pairs, mine }| {
+                pairs.clear();
+                pairs.reserve(chunk.len() * 8);
+                for (j, (p, r)) in chunk.iter().enumerate() {
+                    if !(r.is_finite() && *r > 0.0) {
+                        continue;
+                    }
+                    // both corners are >= 0 (lo is the least corner, rounded the same way), so
+                    // truncation is the floor
+                    let a = ((*p - Vec3::splat(*r) - lo) * inv_cell).as_ivec3();
+                    let b = ((*p + Vec3::splat(*r) - lo) * inv_cell).as_ivec3();
+                    // distinct buckets only (cells of one point rarely share a bucket)
+                    mine.clear();
+                    for z in a.z..=b.z {
+                        for y in a.y..=b.y {
+                            for x in a.x..=b.x {
+                                let bk = (hash_cell(IVec3::new(x, y, z)) & mask) as u32;
+                                if !mine.contains(&bk) {
+                                    mine.push(bk);
+                                }
                             }
                         }
                     }
+                    let i = (c * GRID_CHUNK + j) as u32;
+                    pairs.extend(mine.iter().map(|&bk| (bk, i)));
                 }
-                let i = (c * GRID_CHUNK + j) as u32;
-                pairs.extend(mine.iter().map(|&bk| (bk, i)));
-            }
-            grouped.regroup(pairs, ranges, |&(bk, _)| (bk >> shift) as usize);
+                grouped.regroup(pairs, ranges, |&(bk, _)| (bk >> shift) as usize);
+            });
         });
         // where each range's entries start: the ranges in order, each holding its pairs of
         // every chunk
         range_start.clear();
         range_start.push(0);
         for r in 0..ranges {
-            range_start.push(range_start[r] + chunks.iter().map(|c| c.grouped.of(r).len()).sum::<usize>());
+            range_start.push(range_start[r] + chunks.iter().map(|c| c.of(r).len()).sum::<usize>());
         }
         let total = range_start[ranges];
         // every entry and start is overwritten below (`resize` writes only what a table grows by)
@@ -164,7 +170,7 @@ impl VisibilityGrid {
                 let first_bucket = (r << shift) as u32;
                 starts.fill(0);
                 for c in chunks {
-                    for &(bk, _) in c.grouped.of(r) {
+                    for &(bk, _) in c.of(r) {
                         starts[(bk - first_bucket) as usize] += 1;
                     }
                 }
@@ -174,7 +180,7 @@ impl VisibilityGrid {
                 }
                 // `starts` serves as each bucket's fill position, ending at the next one's start
                 for c in chunks {
-                    for &(bk, i) in c.grouped.of(r) {
+                    for &(bk, i) in c.of(r) {
                         let fill = &mut starts[(bk - first_bucket) as usize];
                         entries[*fill as usize] = i;
                         *fill += 1;

@@ -84,12 +84,18 @@ pub struct PhotonPassResult {
     chunks: Vec<PhotonChunk>,
 }
 
-/// The deposits of one chunk of photons, in photon order and grouped by range of points.
+/// The deposits of one chunk of photons, grouped by range of points (in photon order within
+/// a range).
 #[derive(Default)]
 struct PhotonChunk {
-    deposits: Vec<Deposit>,
     grouped: ByRange<Deposit>,
     lookups: u64,
+}
+
+thread_local! {
+    /// A chunk's deposits in photon order before they are grouped: one list per thread, kept,
+    /// so that only the grouped lists stay allocated per chunk.
+    static DEPOSITS: std::cell::RefCell<Vec<Deposit>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
 /// Traces `n_photons` photons at the iteration's wavelengths `wl` with streams keyed by
@@ -119,16 +125,20 @@ pub fn trace_photons(
     let PhotonPassResult { sums, lookups, chunks } = out;
     chunks.resize_with(n_chunks, PhotonChunk::default);
     chunks.par_iter_mut().enumerate().for_each(|(c, chunk)| {
-        let (c, deposits) = (c as u64, &mut chunk.deposits);
-        deposits.clear();
-        deposits.reserve(2 * CHUNK);
-        chunk.lookups = 0;
-        let end = ((c + 1) * CHUNK as u64).min(n_photons);
-        for i in c * CHUNK as u64..end {
-            let mut sampler = Sampler::new(seed, i, iteration as u64);
-            chunk.lookups += trace_photon(scene, wl, points, point_wl, radii, grid, cone_cos, &mut sampler, deposits);
-        }
-        chunk.grouped.regroup(deposits, n_ranges, |d| d.point as usize / range);
+        // (tracing a photon starts no parallel work, so the thread's list is not borrowed twice)
+        DEPOSITS.with_borrow_mut(|deposits| {
+            let c = c as u64;
+            deposits.clear();
+            deposits.reserve(2 * CHUNK);
+            chunk.lookups = 0;
+            let end = ((c + 1) * CHUNK as u64).min(n_photons);
+            for i in c * CHUNK as u64..end {
+                let mut sampler = Sampler::new(seed, i, iteration as u64);
+                chunk.lookups +=
+                    trace_photon(scene, wl, points, point_wl, radii, grid, cone_cos, &mut sampler, deposits);
+            }
+            chunk.grouped.regroup(deposits, n_ranges, |d| d.point as usize / range);
+        });
     });
     sums.clear();
     sums.resize(points.len(), PhotonSums::default());
