@@ -92,7 +92,7 @@ pub struct Iteration {
 }
 
 /// What [`Iteration::run`] produced. A render keeps one and hands it to every iteration, which
-/// refills its lists in place: an iteration allocates no image-sized storage of its own.
+/// refills its lists in place: once they have grown, an iteration allocates nothing.
 pub struct IterationResult<'s> {
     /// The pixel of every visibility point.
     pub owners: Vec<usize>,
