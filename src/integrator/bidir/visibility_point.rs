@@ -74,8 +74,8 @@ impl GatherRule {
 }
 
 /// What one camera path of an iteration produced besides its visibility points (which
-/// [`trace_camera_path`] appends to the caller's list, so that an iteration allocates per
-/// batch of pixels, not per pixel).
+/// [`trace_camera_path`] appends to the caller's list: one list per batch of pixels, kept
+/// between iterations).
 #[derive(Clone, Copy, Debug)]
 pub struct CameraPathResult {
     /// Emission and direct light collected on the way (and indirect light found before the
