@@ -155,6 +155,24 @@ fn resume_equals_the_uninterrupted_render() {
     assert!(quasar::render::job::render_desc(&desc, &bad, false).is_err());
 }
 
+/// From the 17th iteration on, a pixel's adaptive-depth pilots stop once no remaining pilot
+/// could change its depth: a render checkpointed there and resumed still chooses, iteration by
+/// iteration, the depths of the uninterrupted render (the image and `trace_depth.Y` bit for bit).
+#[test]
+fn resume_where_pilots_are_skipped_equals_the_uninterrupted_render() {
+    let dir = tempfile::tempdir().unwrap();
+    let cp = dir.path().join("adaptive.ckpt");
+    let long = JobOverrides { spp: Some(28), ..ov("adaptive", None) };
+    let full = render_file(&scene(), &long).image;
+    render_file(&scene(), &JobOverrides { spp: Some(21), checkpoint: Some(cp.clone()), ..long.clone() });
+    let resumed = render_file(&scene(), &JobOverrides { resume: Some(cp), ..long }).image;
+    assert_eq!(resumed.meta("spp"), Some("28"));
+    for c in &full.channels {
+        let r = resumed.channel(&c.name).unwrap();
+        assert!(c.values.iter().zip(r).all(|(a, b)| a.to_bits() == b.to_bits()), "{}", c.name);
+    }
+}
+
 /// Images written before the illuminance layer's sample count was recorded in the header merge
 /// their layers by `spp.Y` as before (not to zero).
 #[test]

@@ -241,6 +241,42 @@ mod tests {
     }
 
     #[test]
+    fn skipping_pilots_keeps_every_iterations_mode() {
+        // pixels whose pilots agree more or less often, some finding no depth at all
+        let n = 500;
+        let pilot = |i: usize, stream: u32| {
+            let mut s = crate::core::sampling::Sampler::new(11, i as u64, stream as u64);
+            let agree = (i % 10) as f32 / 9.0;
+            if s.get_1d() < 0.05 {
+                None
+            } else if s.get_1d() < agree {
+                Some((i % BINS) as u32)
+            } else {
+                Some((s.get_1d() * BINS as f32) as u32 % BINS as u32)
+            }
+        };
+        let mut skipping = GatherDepths::new(n);
+        let mut full = vec![[0u32; BINS]; n];
+        let mut traced = 0;
+        for stream in 0..=PILOT_ITERATIONS {
+            let count = std::sync::atomic::AtomicUsize::new(0);
+            skipping.add_pilots(stream, |i| {
+                count.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                pilot(i, stream)
+            });
+            traced += count.into_inner();
+            for (i, c) in full.iter_mut().enumerate() {
+                if let Some(d) = pilot(i, stream) {
+                    c[d as usize] += 1;
+                }
+                assert_eq!(skipping.mode(i) as usize, mode_of(c), "pixel {i} after pilot {stream}");
+            }
+        }
+        let all = n * (PILOT_ITERATIONS as usize + 1);
+        assert!(traced < all * 9 / 10, "{traced} of {all} pilots traced: the skip never fired");
+    }
+
+    #[test]
     fn a_tie_the_remaining_pilots_could_reach_is_not_settled() {
         // depth 3 leads depth 1 by 2; two more pilots at depth 1 tie it, and a tie goes to the
         // smaller depth
