@@ -273,24 +273,22 @@ impl Film {
     /// the batch's block means.
     pub fn add_batch(&mut self, sample: impl Fn(usize) -> (LayeredRadiance, SampledWavelengths) + Sync) {
         let w = self.width as usize;
-        let Some(mut blocks) = self.blocks.take() else {
-            self.rows_mut().enumerate().for_each(|(r, mut row)| {
-                for x in 0..row.width() {
-                    let (l, wl) = sample(r * w + x);
-                    row.add(x, &l, &wl);
-                }
-            });
-            return;
+        // the luminances go to the block statistics, which keep their list between batches
+        let mut blocks = self.blocks.take();
+        let mut y = match &mut blocks {
+            Some(b) => b.take_luminances(),
+            None => vec![[0.0; N_QUANTITIES]; self.pixels.len()],
         };
-        let mut y = blocks.take_luminances();
         self.rows_mut().zip(y.par_chunks_mut(w.max(1))).enumerate().for_each(|(r, (mut row, y))| {
             for (x, y) in y.iter_mut().enumerate() {
                 let (l, wl) = sample(r * w + x);
                 *y = row.add(x, &l, &wl);
             }
         });
-        blocks.add_luminances(y);
-        self.blocks = Some(blocks);
+        if let Some(b) = &mut blocks {
+            b.add_luminances(y);
+        }
+        self.blocks = blocks;
     }
 
     /// Mean luminance of `q` at pixel `i`.
