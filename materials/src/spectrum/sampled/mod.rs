@@ -2,7 +2,7 @@
 
 use std::ops::{Add, AddAssign, Div, DivAssign, Index, IndexMut, Mul, MulAssign, Sub};
 
-use glam::Vec3A;
+use glam::{Vec3A, Vec4};
 
 use super::cie;
 
@@ -220,19 +220,16 @@ impl SampledWavelengths {
     /// [LAMBDA_MIN, LAMBDA_MAX] (a tabulated inverse CDF, see `visible`). The rotations are taken in the CDF domain (u + i/4 mod 1), so the
     /// four wavelengths are stratified in the importance measure and each has the same marginal pdf.
     pub fn sample_visible(u: f32) -> Self {
-        let mut lambda = [0.0; N_SPECTRUM_SAMPLES];
-        let mut pdf = [0.0; N_SPECTRUM_SAMPLES];
-        let mut grid = [GridPos { cell: 0, t: 0.0 }; N_SPECTRUM_SAMPLES];
-        let table = visible::table();
-        for i in 0..N_SPECTRUM_SAMPLES {
-            let mut up = u + i as f32 / N_SPECTRUM_SAMPLES as f32;
-            if up >= 1.0 {
-                up -= 1.0;
-            }
-            (lambda[i], pdf[i]) = table.sample(up);
-            grid[i] = GridPos::of(lambda[i]);
-        }
-        Self { lambda, pdf, grid }
+        // i / N exactly, so each lane is u + i / N as a scalar loop would compute it
+        let up = Vec4::splat(u) + Vec4::from_array(std::array::from_fn(|i| i as f32 / N_SPECTRUM_SAMPLES as f32));
+        let up = Vec4::select(up.cmpge(Vec4::ONE), up - Vec4::ONE, up);
+        let (lambda, pdf) = visible::table().sample(up);
+        // GridPos::of without its range test: the table's wavelengths lie in [LAMBDA_MIN, LAMBDA_MAX]
+        let x = lambda - LAMBDA_MIN;
+        let cell = x.to_array().map(|x| floor_index(x, GRID_CELLS - 1) as u32);
+        let t = (x - Vec4::from_array(cell.map(|c| c as f32))).to_array();
+        let grid = std::array::from_fn(|i| GridPos { cell: cell[i], t: t[i] });
+        Self { lambda: lambda.to_array(), pdf: pdf.to_array(), grid }
     }
 
     /// Builds wavelengths with explicit values and densities (tests, single-wavelength probes).
@@ -368,6 +365,20 @@ mod tests {
         let h = (LAMBDA_MAX - LAMBDA_MIN) / n as f32;
         let s: f32 = (0..n).map(|i| visible::target_pdf(LAMBDA_MIN + (i as f32 + 0.5) * h) * h).sum();
         assert!((s - 1.0).abs() < 1e-3, "{s}");
+    }
+
+    #[test]
+    fn visible_wavelengths_are_rotated_in_the_cdf_and_placed_on_the_grid() {
+        for k in 0..5000 {
+            let u = if k == 0 { 1.0 - f32::EPSILON } else { (k as f32 * 0.618_034).fract() };
+            let wl = SampledWavelengths::sample_visible(u);
+            for i in 0..N_SPECTRUM_SAMPLES {
+                let up = u + i as f32 / N_SPECTRUM_SAMPLES as f32;
+                let (l, p) = visible::table().sample(Vec4::splat(if up >= 1.0 { up - 1.0 } else { up }));
+                assert_eq!((wl.lambda(i).to_bits(), wl.pdf[i].to_bits()), (l.x.to_bits(), p.x.to_bits()), "u = {u}");
+                assert_eq!(wl.grid()[i], GridPos::of(wl.lambda(i)), "u = {u}");
+            }
+        }
     }
 
     #[test]

@@ -11,6 +11,8 @@
 
 use std::sync::LazyLock;
 
+use glam::Vec4;
+
 use super::{LAMBDA_MAX, LAMBDA_MIN};
 
 const A: f64 = 0.0072;
@@ -54,25 +56,27 @@ pub fn table() -> &'static Table {
 }
 
 impl Table {
-    /// A sample of the tabulated inverse CDF and its exact density: (lambda, p(lambda)).
+    /// Samples of the tabulated inverse CDF at four values of u in [0, 1] (one per lane; a NaN
+    /// becomes segment 0) and their exact densities: (lambda, p(lambda)) per lane.
     #[inline]
-    pub fn sample(&self, u: f32) -> (f32, f32) {
-        // u in [0, 1]; a NaN becomes segment 0 (max and min, unlike clamp, drop a NaN)
-        #[allow(clippy::manual_clamp)]
-        let x = u.max(0.0).min(1.0) * SEGMENTS as f32;
-        let j = super::floor_index(x, SEGMENTS - 1);
-        let f = x - j as f32;
-        let (a, b) = (self.lambda[j], self.lambda[j + 1]);
-        ((a + f * (b - a)).clamp(LAMBDA_MIN, LAMBDA_MAX), self.pdf[j])
+    pub fn sample(&self, u: Vec4) -> (Vec4, Vec4) {
+        // SSE's max returns its second operand where either is a NaN
+        let x = u.max(Vec4::ZERO).min(Vec4::ONE) * SEGMENTS as f32;
+        let j: [usize; 4] = x.to_array().map(|x| super::floor_index(x, SEGMENTS - 1));
+        let f = x - Vec4::from_array(j.map(|j| j as f32));
+        let a = Vec4::from_array(j.map(|j| self.lambda[j]));
+        let b = Vec4::from_array(j.map(|j| self.lambda[j + 1]));
+        let lambda = (a + f * (b - a)).clamp(Vec4::splat(LAMBDA_MIN), Vec4::splat(LAMBDA_MAX));
+        (lambda, Vec4::from_array(j.map(|j| self.pdf[j])))
     }
 }
 
-/// [`Table::sample`] of the table.
+/// [`Table::sample`] of the table at one u.
 #[cfg(test)]
 fn sample(u: f32) -> (f32, f32) {
-    table().sample(u)
+    let (lambda, pdf) = table().sample(Vec4::splat(u));
+    (lambda.x, pdf.x)
 }
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -87,6 +91,27 @@ mod tests {
             let measured = h / (l1 - l0);
             assert!((measured - p).abs() <= 2e-3 * p, "segment {j}: {p} vs {measured}");
             assert!((p - target_pdf(l0)).abs() <= 7e-3 * p, "segment {j}: {p} vs target {}", target_pdf(l0));
+        }
+    }
+
+    #[test]
+    fn every_lane_is_the_scalar_look_up() {
+        // the look-up written one wavelength at a time, as it was before the lanes
+        let scalar = |u: f32| {
+            let x = if u.is_nan() { 0.0 } else { u.clamp(0.0, 1.0) } * SEGMENTS as f32;
+            let j = (x as usize).min(SEGMENTS - 1);
+            let f = x - j as f32;
+            let (a, b) = (TABLE.lambda[j], TABLE.lambda[j + 1]);
+            ((a + f * (b - a)).clamp(LAMBDA_MIN, LAMBDA_MAX), TABLE.pdf[j])
+        };
+        let edges = [0.0, 1.0, f32::NAN, -0.5, 2.0, 1.0 - f32::EPSILON, 0.5 / SEGMENTS as f32, 1e-30];
+        let us: Vec<f32> = (0..4000).map(|k| (k as f32 * 0.618_034).fract()).chain(edges).collect();
+        for u in us.chunks_exact(4) {
+            let (lambda, pdf) = table().sample(Vec4::from_slice(u));
+            for (k, &u) in u.iter().enumerate() {
+                let (l, p) = scalar(u);
+                assert_eq!((lambda[k].to_bits(), pdf[k].to_bits()), (l.to_bits(), p.to_bits()), "u = {u}");
+            }
         }
     }
 
