@@ -1,6 +1,8 @@
 //! CIE 1931 2-degree colour-matching functions and standard illuminants, linearly interpolated
 //! from the 5 nm tables in [`cie_data`](super::cie_data).
 
+use glam::{Vec3A, Vec4};
+
 use super::cie_data::{CIE_D65, CIE_X, CIE_Y, CIE_Z, CMF_LAMBDA_START, D65_LAMBDA_START, TABLE_STEP};
 
 /// Integral of ybar over the tables' range (nm), the sensor's normalisation constant:
@@ -48,8 +50,8 @@ pub fn cmf(lambda: f32) -> [f32; 3] {
 /// (xbar, ybar, zbar) at every whole nanometre of 360..=830 nm (the 5 nm tables' linear
 /// interpolation there), so that within a 1 nm cell the colour-matching functions are the linear
 /// interpolation of two entries ([`cmf_at`]).
-const CMF_NM: [[f32; 3]; 471] = {
-    let mut t = [[0.0; 3]; 471];
+static CMF_NM: CmfRows = CmfRows({
+    let mut t = [[0.0; 4]; 471];
     let mut k = 0;
     while k < t.len() {
         let (i, r) = (k / 5, k % 5);
@@ -62,19 +64,24 @@ const CMF_NM: [[f32; 3]; 471] = {
         k += 1;
     }
     t
-};
+});
+
+/// Rows (xbar, ybar, zbar, 0), aligned so that a row loads as one SIMD vector.
+#[repr(C, align(16))]
+struct CmfRows([[f32; 4]; 471]);
 
 /// (xbar, ybar, zbar) at 360 + `cell` + `t` nm (a wavelength's place on the 1 nm grid,
 /// `GridPos`): [`cmf`] to rounding, by one linear interpolation between two whole nanometres; 0
 /// for a cell outside the grid.
 #[inline]
-pub fn cmf_at(cell: u32, t: f32) -> [f32; 3] {
+pub fn cmf_at(cell: u32, t: f32) -> Vec3A {
     let k = cell as usize;
-    if k + 1 >= CMF_NM.len() {
-        return [0.0; 3];
+    if k + 1 >= CMF_NM.0.len() {
+        return Vec3A::ZERO;
     }
-    let (a, b) = (CMF_NM[k], CMF_NM[k + 1]);
-    [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])]
+    let row = |k: usize| Vec3A::from_vec4(Vec4::from_array(CMF_NM.0[k]));
+    let (a, b) = (row(k), row(k + 1));
+    a + t * (b - a)
 }
 
 /// ybar at `lambda` nm (the photopic luminous efficiency V(lambda)).
@@ -145,6 +152,6 @@ mod tests {
             }
             l += 0.173;
         }
-        assert_eq!(cmf_at(u32::MAX, 0.0), [0.0; 3]);
+        assert_eq!(cmf_at(u32::MAX, 0.0), Vec3A::ZERO);
     }
 }

@@ -295,9 +295,7 @@ impl SampledWavelengths {
         let mut w = [Vec3A::ZERO; N_SPECTRUM_SAMPLES];
         for ((w, &pdf), g) in w.iter_mut().zip(&self.pdf).zip(&self.grid).take(lanes) {
             if pdf > 0.0 {
-                let [x, y, z] = cie::cmf_at(g.cell, g.t);
-                let f = norm / pdf;
-                *w = Vec3A::new(x * f, y * f, z * f);
+                *w = cie::cmf_at(g.cell, g.t) * (norm / pdf);
             }
         }
         XyzWeights { w, lanes }
