@@ -1,7 +1,6 @@
 //! Rays and robust ray-origin offsetting.
 
 use glam::Vec3;
-use wide::{CmpEq, f32x4, i32x4};
 
 /// A ray o + t d with t in (0, t_max).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -49,26 +48,23 @@ pub fn offset_origin(p: Vec3, p_err: Vec3, n: Vec3, dir: Vec3) -> Vec3 {
         offset = -offset;
     }
     let po = p + offset;
-    let [x, y, z, _] =
-        float_step(f32x4::new([po.x, po.y, po.z, 0.0]), f32x4::new([offset.x, offset.y, offset.z, 0.0])).to_array();
-    Vec3::new(x, y, z)
+    Vec3::new(float_step(po.x, offset.x), float_step(po.y, offset.y), float_step(po.z, offset.z))
 }
 
-/// Per lane, `v` moved by one float step towards +infinity where `dir` > 0, towards -infinity
-/// where `dir` < 0, unchanged where `dir` is 0 (pbrt-v4's `NextFloatUp` / `NextFloatDown` for
-/// finite `v`), in integer arithmetic on the bits without a branch: a zero `v` first takes
-/// `dir`'s sign, then the bits step by +1 (away from zero) where `v` and `dir` have the same
-/// sign and by -1 (towards zero) where they differ.
+/// `v` moved by one float step towards +infinity when `dir` > 0, towards -infinity when `dir` <
+/// 0, unchanged when `dir` is 0 (pbrt-v4's `NextFloatUp` / `NextFloatDown` for finite `v`),
+/// written with selects rather than branches: the offset's signs are as random as the
+/// surfaces' normals, so branches on them mispredict.
 #[inline]
-fn float_step(v: f32x4, dir: f32x4) -> f32x4 {
-    let bits = |x: f32x4| i32x4::new(x.to_array().map(|c| c.to_bits() as i32));
-    let (vb, db) = (bits(v), bits(dir));
-    let v0 = bits(v.cmp_eq(f32x4::ZERO)).blend(db & i32x4::splat(i32::MIN), vb);
-    // 0 where the signs agree, -1 where they differ (arithmetic shift of the sign bit)
-    let differ = (v0 ^ db) >> 31;
-    let stepped = v0 + i32x4::ONE + differ + differ;
-    let out = bits(dir.cmp_eq(f32x4::ZERO)).blend(vb, stepped);
-    f32x4::new(out.to_array().map(|c| f32::from_bits(c as u32)))
+fn float_step(v: f32, dir: f32) -> f32 {
+    let up = dir > 0.0;
+    // zero steps to the smallest subnormal of the direction's sign
+    let v0 = if v == 0.0 { if up { 0.0 } else { -0.0 } } else { v };
+    let bits = v0.to_bits();
+    // away from zero when moving the way of the sign (or from zero itself)
+    let away = (v0 > 0.0) == up || v0 == 0.0;
+    let stepped = f32::from_bits(if away { bits.wrapping_add(1) } else { bits.wrapping_sub(1) });
+    if dir == 0.0 { v } else { stepped }
 }
 
 #[cfg(test)]
@@ -78,13 +74,9 @@ mod tests {
     #[test]
     fn float_steps_are_next_up_and_next_down() {
         for v in [0.0f32, -0.0, 1.0, -1.0, 1e-30, -1e-30, 3.5e5, -7.25, f32::MIN_POSITIVE, 1e-45, -1e-45, 1e30] {
-            let step = |dir: f32| float_step(f32x4::splat(v), f32x4::new([dir, -dir, 0.0, -0.0])).to_array();
-            for dir in [1.0f32, 2.5e-30, f32::MIN_POSITIVE] {
-                let [up, down, still, still_neg] = step(dir).map(f32::to_bits);
-                assert_eq!(up, v.next_up().to_bits(), "{v} up");
-                assert_eq!(down, v.next_down().to_bits(), "{v} down");
-                assert_eq!((still, still_neg), (v.to_bits(), v.to_bits()), "{v} still");
-            }
+            assert_eq!(float_step(v, 1.0).to_bits(), v.next_up().to_bits(), "{v} up");
+            assert_eq!(float_step(v, -2.0).to_bits(), v.next_down().to_bits(), "{v} down");
+            assert_eq!(float_step(v, 0.0).to_bits(), v.to_bits(), "{v} still");
         }
     }
 
