@@ -12,6 +12,8 @@
 
 use std::collections::BTreeMap;
 
+use rayon::prelude::*;
+
 use super::scratch::Scratch;
 use super::{Channel, N_QUANTITIES, Quantity};
 
@@ -110,16 +112,21 @@ impl BlockBatches {
             if li == 0 {
                 col_of.clear();
                 col_of.extend((0..w).map(|x| x / level.size));
-                for (row, pixels) in y.chunks(w.max(1)).enumerate() {
-                    let base = (row / level.size) * level.cols;
-                    for (v, &c) in pixels.iter().zip(col_of.iter()) {
-                        let b = &mut block[base + c];
-                        b.1 += 1;
-                        for (acc, x) in b.0.iter_mut().zip(v) {
-                            *acc += x;
+                // one row of blocks per task, each adding its band of pixel rows in order
+                let col_of = &*col_of;
+                block.par_chunks_mut(level.cols.max(1)).zip(y.par_chunks((w * level.size).max(1))).for_each(
+                    |(blocks, band)| {
+                        for pixels in band.chunks(w.max(1)) {
+                            for (v, &c) in pixels.iter().zip(col_of) {
+                                let b = &mut blocks[c];
+                                b.1 += 1;
+                                for (acc, x) in b.0.iter_mut().zip(v) {
+                                    *acc += x;
+                                }
+                            }
                         }
-                    }
-                }
+                    },
+                );
             } else {
                 for (i, s) in finer.iter().enumerate() {
                     let b = &mut block[(i / finer_cols / 2) * level.cols + (i % finer_cols) / 2];
@@ -129,14 +136,16 @@ impl BlockBatches {
                     }
                 }
             }
-            for (b, (s, n)) in block.iter().enumerate() {
-                let n = (*n).max(1) as f64;
-                for (q, v) in s.iter().enumerate() {
-                    let m = v / n;
-                    level.sum[b][q] += m;
-                    level.sum_sq[b][q] += m * m;
-                }
-            }
+            level.sum.par_iter_mut().zip(&mut level.sum_sq).zip(&*block).with_min_len(256).for_each(
+                |((sum, sum_sq), (s, n))| {
+                    let n = (*n).max(1) as f64;
+                    for (q, v) in s.iter().enumerate() {
+                        let m = v / n;
+                        sum[q] += m;
+                        sum_sq[q] += m * m;
+                    }
+                },
+            );
             std::mem::swap(block, finer);
             finer_cols = level.cols;
         }

@@ -279,7 +279,7 @@ impl Film {
             Some(b) => b.take_luminances(),
             None => vec![[0.0; N_QUANTITIES]; self.pixels.len()],
         };
-        self.rows_mut().zip(y.par_chunks_mut(w.max(1))).enumerate().for_each(|(r, (mut row, y))| {
+        self.rows_mut().zip(y.par_chunks_mut(w.max(1))).enumerate().with_max_len(1).for_each(|(r, (mut row, y))| {
             for (x, y) in y.iter_mut().enumerate() {
                 let (l, wl) = sample(r * w + x);
                 *y = row.add(x, &l, &wl);

@@ -74,6 +74,9 @@ impl<E: PixelEstimator> RenderMethod for PerPixel<'_, E> {
         let skipped: usize = film
             .rows_mut()
             .enumerate()
+            // one row per task: rows differ in cost (sky and objects), and rayon would otherwise
+            // leave a piece of a quarter of a thread's rows to the thread that started it
+            .with_max_len(1)
             .map(|(y, mut row)| {
                 // an interrupted pass leaves the remaining rows with fewer samples
                 if (control.stop)() {

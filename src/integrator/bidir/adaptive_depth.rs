@@ -79,7 +79,7 @@ impl GatherDepths {
     /// full pilots would choose.
     fn add_pilots(&mut self, stream: u32, pilot: impl Fn(usize) -> Option<u32> + Sync) {
         let remaining = PILOT_ITERATIONS + 1 - stream;
-        self.histogram.par_iter_mut().enumerate().for_each(|(i, c)| {
+        self.histogram.par_iter_mut().enumerate().with_max_len(super::ITEMS_PER_TASK).for_each(|(i, c)| {
             if mode_is_settled(c, remaining) {
                 return;
             }
@@ -117,7 +117,11 @@ impl GatherDepths {
             GatherDepth::Adaptive { max_depth, paper: true } => {
                 // the iteration's own stream: the same first camera ray as the estimate
                 let wl = wl_of(k);
-                (0..n).into_par_iter().map(|i| pilot(i, seed, k, wl, max_depth)).collect_into_vec(depths);
+                (0..n)
+                    .into_par_iter()
+                    .with_max_len(super::ITEMS_PER_TASK)
+                    .map(|i| pilot(i, seed, k, wl, max_depth))
+                    .collect_into_vec(depths);
             }
             GatherDepth::Adaptive { max_depth, paper: false } => {
                 let pilot_seed = mix64(seed ^ 0x0070_696c_6f74);
@@ -135,7 +139,12 @@ impl GatherDepths {
                     self.add_pilots(j, |i| pilot(i, pilot_seed, j, wl, max_depth));
                     self.pilots = j;
                 }
-                depths.extend((0..n).map(|i| Some(self.mode(i))));
+                let this = &*self;
+                (0..n)
+                    .into_par_iter()
+                    .with_max_len(super::ITEMS_PER_TASK)
+                    .map(|i| Some(this.mode(i)))
+                    .collect_into_vec(depths);
                 if k <= PILOT_ITERATIONS && self.pilots < k {
                     let wl = wl_of(k);
                     self.add_pilots(k, |i| pilot(i, pilot_seed, k, wl, max_depth));

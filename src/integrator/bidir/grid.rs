@@ -113,37 +113,39 @@ impl VisibilityGrid {
         let shift = buckets.trailing_zeros().saturating_sub(BUCKET_RANGES.trailing_zeros());
         let ranges = (buckets >> shift) as usize;
         chunks.resize_with(points.len().div_ceil(GRID_CHUNK), ByRange::default);
-        chunks.par_iter_mut().zip(points.par_chunks(GRID_CHUNK)).enumerate().for_each(|(c, (grouped, chunk))| {
-            // (a chunk starts no parallel work, so the thread's lists are not borrowed twice)
-            CHUNK_LISTS.with_borrow_mut(|ChunkLists { pairs, mine }| {
-                pairs.clear();
-                pairs.reserve(chunk.len() * 8);
-                for (j, (p, r)) in chunk.iter().enumerate() {
-                    if !(r.is_finite() && *r > 0.0) {
-                        continue;
-                    }
-                    // both corners are >= 0 (lo is the least corner, rounded the same way), so
-                    // truncation is the floor
-                    let a = ((*p - Vec3::splat(*r) - lo) * inv_cell).as_ivec3();
-                    let b = ((*p + Vec3::splat(*r) - lo) * inv_cell).as_ivec3();
-                    // distinct buckets only (cells of one point rarely share a bucket)
-                    mine.clear();
-                    for z in a.z..=b.z {
-                        for y in a.y..=b.y {
-                            for x in a.x..=b.x {
-                                let bk = (hash_cell(IVec3::new(x, y, z)) & mask) as u32;
-                                if !mine.contains(&bk) {
-                                    mine.push(bk);
+        chunks.par_iter_mut().zip(points.par_chunks(GRID_CHUNK)).enumerate().with_max_len(1).for_each(
+            |(c, (grouped, chunk))| {
+                // (a chunk starts no parallel work, so the thread's lists are not borrowed twice)
+                CHUNK_LISTS.with_borrow_mut(|ChunkLists { pairs, mine }| {
+                    pairs.clear();
+                    pairs.reserve(chunk.len() * 8);
+                    for (j, (p, r)) in chunk.iter().enumerate() {
+                        if !(r.is_finite() && *r > 0.0) {
+                            continue;
+                        }
+                        // both corners are >= 0 (lo is the least corner, rounded the same way), so
+                        // truncation is the floor
+                        let a = ((*p - Vec3::splat(*r) - lo) * inv_cell).as_ivec3();
+                        let b = ((*p + Vec3::splat(*r) - lo) * inv_cell).as_ivec3();
+                        // distinct buckets only (cells of one point rarely share a bucket)
+                        mine.clear();
+                        for z in a.z..=b.z {
+                            for y in a.y..=b.y {
+                                for x in a.x..=b.x {
+                                    let bk = (hash_cell(IVec3::new(x, y, z)) & mask) as u32;
+                                    if !mine.contains(&bk) {
+                                        mine.push(bk);
+                                    }
                                 }
                             }
                         }
+                        let i = (c * GRID_CHUNK + j) as u32;
+                        pairs.extend(mine.iter().map(|&bk| (bk, i)));
                     }
-                    let i = (c * GRID_CHUNK + j) as u32;
-                    pairs.extend(mine.iter().map(|&bk| (bk, i)));
-                }
-                grouped.regroup(pairs, ranges, |&(bk, _)| (bk >> shift) as usize);
-            });
-        });
+                    grouped.regroup(pairs, ranges, |&(bk, _)| (bk >> shift) as usize);
+                });
+            },
+        );
         // where each range's entries start: the ranges in order, each holding its pairs of
         // every chunk
         range_start.clear();

@@ -221,7 +221,8 @@ impl Iteration {
             ..
         } = out;
         batches.resize_with(depths.len().div_ceil(CAMERA_BATCH), CameraBatch::default);
-        batches.par_iter_mut().enumerate().for_each(|(b, batch)| {
+        // (one batch per task at most, see ITEMS_PER_TASK: the batches' costs differ widely)
+        batches.par_iter_mut().enumerate().with_max_len(1).for_each(|(b, batch)| {
             batch.paths.clear();
             batch.points.clear();
             batch.paths.reserve(CAMERA_BATCH);
@@ -300,12 +301,17 @@ impl Iteration {
             photons,
         );
         lap(&mut seconds.photons);
-        radii.par_iter_mut().enumerate().filter(|(j, _)| photons.sums[*j].photons > 0).for_each(|(j, g)| {
-            let rotation = (mix64(self.seed ^ mix64(((self.k as u64) << 40) ^ j as u64)) >> 40) as f32
-                * (std::f32::consts::TAU / (1u64 << 24) as f32);
-            (g.indirect_coverage, g.caustic_coverage) =
-                coverage::disk_coverage(scene, &points[j], g.indirect, g.caustic, rotation);
-        });
+        radii
+            .par_iter_mut()
+            .enumerate()
+            .with_max_len(super::ITEMS_PER_TASK)
+            .filter(|(j, _)| photons.sums[*j].photons > 0)
+            .for_each(|(j, g)| {
+                let rotation = (mix64(self.seed ^ mix64(((self.k as u64) << 40) ^ j as u64)) >> 40) as f32
+                    * (std::f32::consts::TAU / (1u64 << 24) as f32);
+                (g.indirect_coverage, g.caustic_coverage) =
+                    coverage::disk_coverage(scene, &points[j], g.indirect, g.caustic, rotation);
+            });
         lap(&mut seconds.coverage);
         out.grid_bytes = out.grid.memory_bytes();
         out.seconds = seconds;

@@ -20,3 +20,11 @@ pub mod quasi_cone;
 mod ranges;
 pub mod settings;
 pub mod visibility_point;
+
+/// Most pixels or points in one parallel task of a per-pixel or per-point loop. rayon cuts an
+/// indexed iterator into about four pieces per thread and cuts a piece further only when another
+/// thread steals it before it starts, so work concentrated in one piece (the disks that received
+/// photons, the pixels whose adaptive-depth pilot is not settled) would run on one thread;
+/// pieces of at most this many items let idle threads take their share (the coverage probes of
+/// the glass plate at 128x96 took 1.18x less time with two threads than with one before).
+pub(crate) const ITEMS_PER_TASK: usize = 64;

@@ -124,7 +124,7 @@ pub fn trace_photons(
     let n_ranges = points.len().div_ceil(range);
     let PhotonPassResult { sums, lookups, chunks } = out;
     chunks.resize_with(n_chunks, PhotonChunk::default);
-    chunks.par_iter_mut().enumerate().for_each(|(c, chunk)| {
+    chunks.par_iter_mut().enumerate().with_max_len(1).for_each(|(c, chunk)| {
         // (tracing a photon starts no parallel work, so the thread's list is not borrowed twice)
         DEPOSITS.with_borrow_mut(|deposits| {
             let c = c as u64;
