@@ -9,7 +9,7 @@
 //! | `adaptive_paper` | | x | | x | the paper's own, biased depth choice |
 //! | `cone_deg` | | | x | x | quasi-specular cone half-angle (default 10 degrees) |
 //! | `radius` | x | x | x | x | initial gather radius (default: automatic) |
-//! | `alpha` | x | x | x | x | radius reduction alpha (default 2/3) |
+//! | `alpha` | x | x | x | x | radius reduction alpha (default 0.75) |
 
 use super::passes::Bidirectional;
 use super::settings::{GatherDepth, MAX_ADAPTIVE_DEPTH, VismapSettings};
@@ -85,7 +85,7 @@ pub static ALPHA: ParamSpec = ParamSpec {
     key: "alpha",
     flag: "alpha",
     kind: ParamKind::Real { min: 0.0, max: 1.0 },
-    default: "2/3",
+    default: "0.75",
     doc: "radius reduction alpha of progressive photon mapping",
 };
 
