@@ -77,6 +77,7 @@ fn sample(u: f32) -> (f32, f32) {
     let (lambda, pdf) = table().sample(Vec4::splat(u));
     (lambda.x, pdf.x)
 }
+
 #[cfg(test)]
 mod tests {
     use super::*;
