@@ -155,6 +155,34 @@ fn resume_equals_the_uninterrupted_render() {
     assert!(quasar::render::job::render_desc(&desc, &bad, false).is_err());
 }
 
+/// A setting left at its default is part of the resume key as its default: a checkpoint written
+/// with the default given explicitly resumes without it, and one written with another value (or
+/// by a build with another default) is refused, naming the setting.
+#[test]
+fn defaults_are_part_of_the_resume_key() {
+    let dir = tempfile::tempdir().unwrap();
+    let desc = quasar::render::job::load_scene(&scene()).unwrap();
+    let default_alpha = quasar::integrator::bidir::settings::DEFAULT_ALPHA;
+    let checkpoint = |alpha: f64, name: &str| {
+        let cp = dir.path().join(name);
+        let first = JobOverrides { spp: Some(3), checkpoint: Some(cp.clone()), ..ov("vismap", None) };
+        render_file(&scene(), &first.with_param("alpha", alpha));
+        cp
+    };
+    let explicit = checkpoint(default_alpha as f64, "explicit.ckpt");
+    let full = render_file(&scene(), &ov("vismap", None)).image;
+    let resumed = render_file(&scene(), &JobOverrides { resume: Some(explicit), ..ov("vismap", None) }).image;
+    for c in &full.channels {
+        let r = resumed.channel(&c.name).unwrap();
+        assert!(c.values.iter().zip(r).all(|(a, b)| a.to_bits() == b.to_bits()), "{}", c.name);
+    }
+    let other = checkpoint(0.7, "other.ckpt");
+    let err =
+        quasar::render::job::render_desc(&desc, &JobOverrides { resume: Some(other), ..ov("vismap", None) }, false);
+    let msg = format!("{:#}", err.err().unwrap());
+    assert!(msg.contains(&format!("alpha {default_alpha} (the checkpoint has 0.7)")), "{msg}");
+}
+
 /// From the 17th iteration on, a pixel's adaptive-depth pilots stop once no remaining pilot
 /// could change its depth: a render checkpointed there and resumed still chooses, iteration by
 /// iteration, the depths of the uninterrupted render (the image and `trace_depth.Y` bit for bit).

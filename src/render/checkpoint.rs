@@ -60,7 +60,8 @@ impl Fingerprint {
 }
 
 /// What must match for a resume, setting by setting (name, value): the scene's content hash, the
-/// method, image size, seed, shard, masking and every method parameter but the sample budget.
+/// method, image size, seed, shard, masking and every method parameter but the sample budget
+/// (one left at its default as the default's text).
 /// Kept as text in the checkpoint so that a mismatch names the setting that differs.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct ResumeKey(pub Vec<(String, String)>);

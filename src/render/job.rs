@@ -164,6 +164,12 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
             key.push(("spectral_bins".into(), spectral_description(&b)));
         }
         key.extend(budgetless.entries());
+        // a setting left at its default is keyed by the default, so that a checkpoint is not
+        // resumed by a build whose default differs (the radius reduction alpha changed once);
+        // a value given equal to the default matches it
+        for p in entry.params.iter().filter(|p| p.key != "iterations" && !params.contains(p.key)) {
+            key.push((p.key.to_string(), p.default.to_string()));
+        }
         crate::render::checkpoint::ResumeKey(key)
     } else {
         Default::default()
