@@ -150,8 +150,9 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     // what must match for a resume: the scene and every setting but the sample budget (the
     // scene is hashed only when checkpoints are used: it walks the whole scene description)
     let resume_key = if ov.resume.is_some() || ov.checkpoint.is_some() {
+        let budget = "iterations";
         let mut budgetless = params.clone();
-        budgetless.remove("iterations");
+        budgetless.remove(budget);
         let mut key = vec![
             ("scene".to_string(), format!("{:016x}", crate::render::checkpoint::Fingerprint::of(&[desc]))),
             ("method".into(), entry.name.to_string()),
@@ -167,7 +168,7 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         // a setting left at its default is keyed by the default, so that a checkpoint is not
         // resumed by a build whose default differs (the radius reduction alpha changed once);
         // a value given equal to the default matches it
-        for p in entry.params.iter().filter(|p| p.key != "iterations" && !params.contains(p.key)) {
+        for p in entry.params.iter().filter(|p| p.key != budget && !params.contains(p.key)) {
             key.push((p.key.to_string(), p.default.to_string()));
         }
         crate::render::checkpoint::ResumeKey(key)
