@@ -6,6 +6,19 @@ use rayon::prelude::*;
 
 use super::ranges::{ByRange, for_each_part};
 
+/// What the grid indexes: a point's gather sphere, as its centre and (largest) radius.
+pub trait GatherSphere: Sync {
+    /// The sphere's centre and radius.
+    fn centre_radius(&self) -> (Vec3, f32);
+}
+
+impl GatherSphere for (Vec3, f32) {
+    #[inline]
+    fn centre_radius(&self) -> (Vec3, f32) {
+        *self
+    }
+}
+
 /// Spatial hash of visibility points with per-point radii, built once per iteration.
 pub struct VisibilityGrid {
     origin: Vec3,
@@ -65,7 +78,7 @@ impl VisibilityGrid {
     /// Builds the grid over `points` (position, radius) for point indices `0..points.len()`;
     /// points with a radius that is not finite and > 0 are left out. Deterministic: entries of
     /// a bucket are in point order.
-    pub fn build(points: &[(Vec3, f32)]) -> Self {
+    pub fn build<P: GatherSphere>(points: &[P]) -> Self {
         let mut grid = Self::empty();
         grid.rebuild(points);
         grid
@@ -84,10 +97,10 @@ impl VisibilityGrid {
     }
 
     /// [`build`](Self::build) into this grid's tables (an iteration reuses the last one's).
-    pub fn rebuild(&mut self, points: &[(Vec3, f32)]) {
+    pub fn rebuild<P: GatherSphere>(&mut self, points: &[P]) {
         let BuildLists { radii, chunks, range_start } = &mut self.lists;
         radii.clear();
-        radii.extend(points.iter().map(|p| p.1).filter(|r| r.is_finite() && *r > 0.0));
+        radii.extend(points.iter().map(|p| p.centre_radius().1).filter(|r| r.is_finite() && *r > 0.0));
         if radii.is_empty() {
             (self.origin, self.inv_cell, self.mask) = (Vec3::ZERO, 1.0, 0);
             self.starts.clear();
@@ -100,9 +113,9 @@ impl VisibilityGrid {
         let max = radii.iter().copied().fold(0.0f32, f32::max);
         let cell = (2.0 * median).max(2.0 * max / MAX_CELLS_PER_AXIS);
         let mut lo = Vec3::splat(f32::INFINITY);
-        for (p, r) in points {
-            if r.is_finite() && *r > 0.0 {
-                lo = lo.min(*p - Vec3::splat(*r));
+        for (p, r) in points.iter().map(P::centre_radius) {
+            if r.is_finite() && r > 0.0 {
+                lo = lo.min(p - Vec3::splat(r));
             }
         }
         let inv_cell = 1.0 / cell;
@@ -119,14 +132,14 @@ impl VisibilityGrid {
                 CHUNK_LISTS.with_borrow_mut(|ChunkLists { pairs, mine }| {
                     pairs.clear();
                     pairs.reserve(chunk.len() * 8);
-                    for (j, (p, r)) in chunk.iter().enumerate() {
-                        if !(r.is_finite() && *r > 0.0) {
+                    for (j, (p, r)) in chunk.iter().map(P::centre_radius).enumerate() {
+                        if !(r.is_finite() && r > 0.0) {
                             continue;
                         }
                         // both corners are >= 0 (lo is the least corner, rounded the same way), so
                         // truncation is the floor
-                        let a = ((*p - Vec3::splat(*r) - lo) * inv_cell).as_ivec3();
-                        let b = ((*p + Vec3::splat(*r) - lo) * inv_cell).as_ivec3();
+                        let a = ((p - Vec3::splat(r) - lo) * inv_cell).as_ivec3();
+                        let b = ((p + Vec3::splat(r) - lo) * inv_cell).as_ivec3();
                         // distinct buckets only (cells of one point rarely share a bucket)
                         mine.clear();
                         for z in a.z..=b.z {

@@ -14,7 +14,7 @@ use rayon::prelude::*;
 
 use super::coverage;
 use super::grid::VisibilityGrid;
-use super::photon_pass::{self, GatherRadii, PhotonSums, trace_photons};
+use super::photon_pass::{self, GatherDisk, GatherRadii, PhotonSums, trace_photons};
 use super::ranges::for_each_part;
 use super::settings::VismapSettings;
 use super::visibility_point::{CameraPathResult, GatherRule, VisibilityPoint, trace_camera_path};
@@ -58,7 +58,7 @@ struct PointLists<'a, 's> {
     owners: &'a mut [usize],
     point_wl: &'a mut [SampledWavelengths],
     radii: &'a mut [GatherRadii],
-    grid_input: &'a mut [(glam::Vec3, f32)],
+    disks: &'a mut [GatherDisk],
 }
 
 impl PointLists<'_, '_> {
@@ -68,10 +68,10 @@ impl PointLists<'_, '_> {
         let (o0, o1) = self.owners.split_at_mut(at);
         let (w0, w1) = self.point_wl.split_at_mut(at);
         let (r0, r1) = self.radii.split_at_mut(at);
-        let (g0, g1) = self.grid_input.split_at_mut(at);
+        let (d0, d1) = self.disks.split_at_mut(at);
         (
-            PointLists { points: p0, owners: o0, point_wl: w0, radii: r0, grid_input: g0 },
-            PointLists { points: p1, owners: o1, point_wl: w1, radii: r1, grid_input: g1 },
+            PointLists { points: p0, owners: o0, point_wl: w0, radii: r0, disks: d0 },
+            PointLists { points: p1, owners: o1, point_wl: w1, radii: r1, disks: d1 },
         )
     }
 }
@@ -108,8 +108,8 @@ pub struct IterationResult<'s> {
     pub seconds: PhaseSeconds,
     /// The wavelengths of each visibility point's path.
     point_wl: Vec<SampledWavelengths>,
-    /// The grid's input: point positions and radii.
-    grid_input: Vec<(glam::Vec3, f32)>,
+    /// The points' gather disks: the grid's input and the photons' first tests.
+    disks: Vec<GatherDisk>,
     grid: VisibilityGrid,
     /// The camera paths of every batch of [`CAMERA_BATCH`] pixels with their points (which
     /// are joined into `points` in pixel order).
@@ -130,7 +130,7 @@ impl Default for IterationResult<'_> {
             grid_bytes: 0,
             seconds: PhaseSeconds::default(),
             point_wl: Vec::new(),
-            grid_input: Vec::new(),
+            disks: Vec::new(),
             grid: VisibilityGrid::empty(),
             batches: Vec::new(),
             batch_first_point: Vec::new(),
@@ -209,16 +209,7 @@ impl Iteration {
         };
         // batches of pixels, each with one list of visibility points, joined in pixel order
         let IterationResult {
-            batches,
-            batch_first_point,
-            owners,
-            points,
-            radii,
-            photons,
-            point_wl,
-            grid_input,
-            grid,
-            ..
+            batches, batch_first_point, owners, points, radii, photons, point_wl, disks, grid, ..
         } = out;
         batches.resize_with(depths.len().div_ceil(CAMERA_BATCH), CameraBatch::default);
         // (one batch per task at most, see ITEMS_PER_TASK: the batches' costs differ widely)
@@ -258,13 +249,13 @@ impl Iteration {
         point_wl.resize(n_points, self.wl);
         // every point's gather radii (the covered shares only matter where photons landed, an
         // empty disk's estimate being 0 whatever its share, so they are measured after the
-        // photon pass, for those disks only) and the grid's input, in the same parallel join
+        // photon pass, for those disks only) and the gather disks, in the same parallel join
         let unmeasured = GatherRadii { indirect: 0.0, caustic: 0.0, indirect_coverage: 1.0, caustic_coverage: 1.0 };
         radii.resize(n_points, unmeasured);
-        grid_input.resize(n_points, (glam::Vec3::ZERO, 0.0));
+        disks.resize(n_points, GatherDisk::default());
         let (batches, first) = (&*batches, &*batch_first_point);
         for_each_part(
-            PointLists { points, owners, point_wl, radii, grid_input },
+            PointLists { points, owners, point_wl, radii, disks },
             0..batches.len(),
             &|lists: PointLists, lo, mid| lists.split_at(first[mid] - first[lo]),
             &|b, slot| {
@@ -279,20 +270,21 @@ impl Iteration {
                 }
                 for (j, vp) in slot.points.iter().enumerate() {
                     let r = radius_of(slot.owners[j], vp);
-                    slot.radii[j] = GatherRadii { indirect: r, caustic: r * settings.caustic_ratio, ..unmeasured };
-                    slot.grid_input[j] = (vp.p, r);
+                    let caustic = r * settings.caustic_ratio;
+                    slot.radii[j] = GatherRadii { indirect: r, caustic, ..unmeasured };
+                    slot.disks[j] = GatherDisk { p: vp.p, indirect: r, ng: vp.ng, caustic };
                 }
             },
         );
         lap(&mut seconds.camera);
-        grid.rebuild(grid_input);
+        grid.rebuild(disks);
         lap(&mut seconds.grid);
         trace_photons(
             scene,
             &self.wl,
             points,
             point_wl,
-            radii,
+            disks,
             grid,
             self.n_photons,
             self.photon_seed,
