@@ -6,16 +6,19 @@ use rayon::prelude::*;
 
 use super::ranges::{ByRange, for_each_part};
 
-/// What the grid indexes: a point's gather sphere, as its centre and (largest) radius.
-pub trait GatherSphere: Sync {
-    /// The sphere's centre and radius.
-    fn centre_radius(&self) -> (Vec3, f32);
+/// What the grid indexes: the region around a point from which it gathers photons, as a radius
+/// (the cells are sized by the median radius) and a box around the point holding the region.
+pub trait GatherRegion: Sync {
+    /// The point, the region's radius, and the half extents of the box centred on the point that
+    /// holds every position the region accepts (at most the radius on every axis).
+    fn centre_radius_extent(&self) -> (Vec3, f32, Vec3);
 }
 
-impl GatherSphere for (Vec3, f32) {
+/// A ball: centre and radius.
+impl GatherRegion for (Vec3, f32) {
     #[inline]
-    fn centre_radius(&self) -> (Vec3, f32) {
-        *self
+    fn centre_radius_extent(&self) -> (Vec3, f32, Vec3) {
+        (self.0, self.1, Vec3::splat(self.1))
     }
 }
 
@@ -78,7 +81,7 @@ impl VisibilityGrid {
     /// Builds the grid over `points` (position, radius) for point indices `0..points.len()`;
     /// points with a radius that is not finite and > 0 are left out. Deterministic: entries of
     /// a bucket are in point order.
-    pub fn build<P: GatherSphere>(points: &[P]) -> Self {
+    pub fn build<P: GatherRegion>(points: &[P]) -> Self {
         let mut grid = Self::empty();
         grid.rebuild(points);
         grid
@@ -97,10 +100,10 @@ impl VisibilityGrid {
     }
 
     /// [`build`](Self::build) into this grid's tables (an iteration reuses the last one's).
-    pub fn rebuild<P: GatherSphere>(&mut self, points: &[P]) {
+    pub fn rebuild<P: GatherRegion>(&mut self, points: &[P]) {
         let BuildLists { radii, chunks, range_start } = &mut self.lists;
         radii.clear();
-        radii.extend(points.iter().map(|p| p.centre_radius().1).filter(|r| r.is_finite() && *r > 0.0));
+        radii.extend(points.iter().map(|p| p.centre_radius_extent().1).filter(|r| r.is_finite() && *r > 0.0));
         if radii.is_empty() {
             (self.origin, self.inv_cell, self.mask) = (Vec3::ZERO, 1.0, 0);
             self.starts.clear();
@@ -113,9 +116,9 @@ impl VisibilityGrid {
         let max = radii.iter().copied().fold(0.0f32, f32::max);
         let cell = (2.0 * median).max(2.0 * max / MAX_CELLS_PER_AXIS);
         let mut lo = Vec3::splat(f32::INFINITY);
-        for (p, r) in points.iter().map(P::centre_radius) {
+        for (p, r, e) in points.iter().map(P::centre_radius_extent) {
             if r.is_finite() && r > 0.0 {
-                lo = lo.min(p - Vec3::splat(r));
+                lo = lo.min(p - e);
             }
         }
         let inv_cell = 1.0 / cell;
@@ -132,14 +135,14 @@ impl VisibilityGrid {
                 CHUNK_LISTS.with_borrow_mut(|ChunkLists { pairs, mine }| {
                     pairs.clear();
                     pairs.reserve(chunk.len() * 8);
-                    for (j, (p, r)) in chunk.iter().map(P::centre_radius).enumerate() {
+                    for (j, (p, r, e)) in chunk.iter().map(P::centre_radius_extent).enumerate() {
                         if !(r.is_finite() && r > 0.0) {
                             continue;
                         }
                         // both corners are >= 0 (lo is the least corner, rounded the same way), so
                         // truncation is the floor
-                        let a = ((p - Vec3::splat(r) - lo) * inv_cell).as_ivec3();
-                        let b = ((p + Vec3::splat(r) - lo) * inv_cell).as_ivec3();
+                        let a = ((p - e - lo) * inv_cell).as_ivec3();
+                        let b = ((p + e - lo) * inv_cell).as_ivec3();
                         // distinct buckets only (cells of one point rarely share a bucket)
                         mine.clear();
                         for z in a.z..=b.z {
@@ -329,6 +332,6 @@ mod tests {
     fn bad_radii_are_left_out() {
         let grid = VisibilityGrid::build(&[(Vec3::ZERO, f32::NAN), (Vec3::ONE, 0.0), (Vec3::ZERO, 1.0)]);
         assert_eq!(grid.candidates(Vec3::ZERO), &[2]);
-        assert!(VisibilityGrid::build(&[]).candidates(Vec3::ZERO).is_empty());
+        assert!(VisibilityGrid::build::<(Vec3, f32)>(&[]).candidates(Vec3::ZERO).is_empty());
     }
 }
