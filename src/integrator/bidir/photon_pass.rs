@@ -337,7 +337,7 @@ mod tests {
     #[test]
     fn a_disks_box_holds_the_region_tightly() {
         // the farthest reach of {|d| <= r, |d . n| <= h} along each axis, found by brute force
-        // over the region's boundary, is inside the box and at least 99.8% of it (a box no
+        // over the region's boundary, is inside the box and at least 95% of it (a box no
         // larger than needed), and the box is never larger than the ball's
         let mut s = Sampler::new(3, 1, 4);
         for n in normals(&mut s) {
