@@ -10,7 +10,8 @@ ratios (not the single figures) comparable. The time is the render loop's own cl
 (`render_time_s` in the EXR header: loading and writing excluded). The method, size and budget
 flags are passed to every render. `--threads` (default 1) takes several counts: every round then
 renders each binary at each count (`--threads 1,2`), and each line also gives the speed-up over the binary's
-first count (thread scaling measured in the same alternation).
+first count (thread scaling measured in the same alternation). `--phases` adds, for the
+bidirectional methods, each phase's best seconds (the header's `time_share` times the render time).
 """
 
 import argparse
@@ -33,18 +34,26 @@ def main():
     ap.add_argument("--height", type=int, default=128)
     ap.add_argument("--threads", type=lambda v: [int(t) for t in v.split(",")], default=[1],
                     help="thread count, or several separated by commas (1,2)")
+    ap.add_argument("--masking", default="separable", help="microfacet masking (the renders' --masking)")
+    ap.add_argument("--phases", action="store_true", help="also each phase's best seconds (bidirectional methods)")
     a = ap.parse_args()
     runs = [(b, t) for b in a.binaries for t in a.threads]
     times = {r: [] for r in runs}
+    phases = {r: {} for r in runs}
     with tempfile.TemporaryDirectory() as d:
         out = os.path.join(d, "out.exr")
         for _ in range(a.runs):
             for b, t in runs:
                 subprocess.run([b, "render", a.scene, "--method", a.method, "--spp", str(a.spp), "--width",
                                 str(a.width), "--height", str(a.height), "--threads", str(t),
-                                "--masking", "separable", "--quiet", "-o", out], check=True)
+                                "--masking", a.masking, "--quiet", "-o", out], check=True)
                 with open(out, "rb") as f:
-                    times[(b, t)].append(float(re.search(rb"render_time_s *= *([0-9.]+)", f.read()).group(1)))
+                    header = f.read()
+                seconds = float(re.search(rb"render_time_s *= *([0-9.]+)", header).group(1))
+                times[(b, t)].append(seconds)
+                share = re.search(rb"time_share=([^\n]*)", header)
+                for name, percent in re.findall(rb"(\w+) ([0-9.]+)%", share.group(1) if share else b""):
+                    phases[(b, t)].setdefault(name.decode(), []).append(float(percent) / 100 * seconds)
     samples = a.width * a.height * a.spp
     for b, t in runs:
         best = min(times[(b, t)])
@@ -52,6 +61,8 @@ def main():
                 f"{samples / best / 1e6:.2f} M samples/s, {min(times[(a.binaries[0], t)]) / best:.2f}x")
         if len(a.threads) > 1:
             line += f", {min(times[(b, a.threads[0])]) / best:.2f}x of {a.threads[0]} thread(s)"
+        if a.phases and phases[(b, t)]:
+            line += "; phases (best s): " + ", ".join(f"{k} {min(v):.3f}" for k, v in phases[(b, t)].items())
         print(line)
     return 0
 
