@@ -1,5 +1,6 @@
 //! A uniform hash grid over visibility points (pbrt-v4 SPPM's grid): every point is entered in
-//! each cell its gather sphere overlaps, so a photon looks up only the cell it landed in.
+//! each cell the box around its gather region overlaps, so a photon looks up only the cell it
+//! landed in.
 
 use glam::{IVec3, Vec3};
 use rayon::prelude::*;
@@ -78,7 +79,7 @@ const BUCKET_RANGES: u64 = 64;
 const MAX_CELLS_PER_AXIS: f32 = 8.0;
 
 impl VisibilityGrid {
-    /// Builds the grid over `points` (position, radius) for point indices `0..points.len()`;
+    /// Builds the grid over the gather regions `points` for point indices `0..points.len()`;
     /// points with a radius that is not finite and > 0 are left out. Deterministic: entries of
     /// a bucket are in point order.
     pub fn build<P: GatherRegion>(points: &[P]) -> Self {

@@ -53,7 +53,7 @@ pub struct GatherRadii {
 /// candidates are out of a photon's reach; testing them here instead of in the points (a few
 /// cache lines each) and their radii keeps the photon pass from waiting on memory once the
 /// points outgrow the caches (`auto`, glossy room, 1024x768: the photon pass took 1.8x the time
-/// per pixel of 128x96; BENCHMARKS.md "Gather disks").
+/// per pixel of 128x96; BENCHMARKS.md "Photon look-ups at large images").
 #[repr(C, align(32))]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct GatherDisk {
