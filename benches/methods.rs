@@ -41,7 +41,8 @@ fn photon_throughput(scene_path: &str) {
             let total = t.elapsed().as_secs_f64();
             let points = result.film.pixels.len();
             let per_point = std::mem::size_of::<visibility_point::VisibilityPoint>()
-                + std::mem::size_of::<photon_pass::GatherRadii>()
+                + std::mem::size_of::<photon_pass::GatherDisk>()
+                + std::mem::size_of::<photon_pass::DiskCoverage>()
                 + std::mem::size_of::<photon_pass::PhotonSums>()
                 + std::mem::size_of::<quasar::materials::spectrum::SampledWavelengths>();
             println!(

@@ -12,9 +12,9 @@ use glam::Vec2;
 use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
 use rayon::prelude::*;
 
-use super::coverage;
+use super::coverage::disk_coverage;
 use super::grid::VisibilityGrid;
-use super::photon_pass::{self, GatherDisk, GatherRadii, PhotonSums, trace_photons};
+use super::photon_pass::{self, DiskCoverage, GatherDisk, PhotonSums, trace_photons};
 use super::ranges::for_each_part;
 use super::settings::VismapSettings;
 use super::visibility_point::{CameraPathResult, GatherRule, VisibilityPoint, trace_camera_path};
@@ -57,7 +57,7 @@ struct PointLists<'a, 's> {
     points: &'a mut [VisibilityPoint<'s>],
     owners: &'a mut [usize],
     point_wl: &'a mut [SampledWavelengths],
-    radii: &'a mut [GatherRadii],
+    coverage: &'a mut [DiskCoverage],
     disks: &'a mut [GatherDisk],
 }
 
@@ -67,11 +67,11 @@ impl PointLists<'_, '_> {
         let (p0, p1) = self.points.split_at_mut(at);
         let (o0, o1) = self.owners.split_at_mut(at);
         let (w0, w1) = self.point_wl.split_at_mut(at);
-        let (r0, r1) = self.radii.split_at_mut(at);
+        let (c0, c1) = self.coverage.split_at_mut(at);
         let (d0, d1) = self.disks.split_at_mut(at);
         (
-            PointLists { points: p0, owners: o0, point_wl: w0, radii: r0, disks: d0 },
-            PointLists { points: p1, owners: o1, point_wl: w1, radii: r1, disks: d1 },
+            PointLists { points: p0, owners: o0, point_wl: w0, coverage: c0, disks: d0 },
+            PointLists { points: p1, owners: o1, point_wl: w1, coverage: c1, disks: d1 },
         )
     }
 }
@@ -98,8 +98,11 @@ pub struct IterationResult<'s> {
     pub owners: Vec<usize>,
     /// The visibility points.
     pub points: Vec<VisibilityPoint<'s>>,
-    /// Their gather radii (the covered shares measured where photons landed, 1 elsewhere).
-    pub radii: Vec<GatherRadii>,
+    /// Their gather disks (centre, normal, radii): the grid's input, the photons' first tests
+    /// and the estimate's radii.
+    pub disks: Vec<GatherDisk>,
+    /// The covered shares of their disks (measured where photons landed, 1 elsewhere).
+    pub coverage: Vec<DiskCoverage>,
     /// The photon pass.
     pub photons: photon_pass::PhotonPassResult,
     /// Bytes of the visibility grid.
@@ -108,8 +111,6 @@ pub struct IterationResult<'s> {
     pub seconds: PhaseSeconds,
     /// The wavelengths of each visibility point's path.
     point_wl: Vec<SampledWavelengths>,
-    /// The points' gather disks: the grid's input and the photons' first tests.
-    disks: Vec<GatherDisk>,
     grid: VisibilityGrid,
     /// The camera paths of every batch of [`CAMERA_BATCH`] pixels with their points (which
     /// are joined into `points` in pixel order).
@@ -125,12 +126,12 @@ impl Default for IterationResult<'_> {
         Self {
             owners: Vec::new(),
             points: Vec::new(),
-            radii: Vec::new(),
+            disks: Vec::new(),
+            coverage: Vec::new(),
             photons: photon_pass::PhotonPassResult::default(),
             grid_bytes: 0,
             seconds: PhaseSeconds::default(),
             point_wl: Vec::new(),
-            disks: Vec::new(),
             grid: VisibilityGrid::empty(),
             batches: Vec::new(),
             batch_first_point: Vec::new(),
@@ -147,7 +148,7 @@ pub struct PhaseSeconds {
     pub pilots: f64,
     /// Camera paths to the visibility points.
     pub camera: f64,
-    /// Gather radii and their covered shares (probe rays).
+    /// The gather disks' covered shares (probe rays).
     pub coverage: f64,
     /// The visibility grid.
     pub grid: f64,
@@ -209,7 +210,16 @@ impl Iteration {
         };
         // batches of pixels, each with one list of visibility points, joined in pixel order
         let IterationResult {
-            batches, batch_first_point, owners, points, radii, photons, point_wl, disks, grid, ..
+            batches,
+            batch_first_point,
+            owners,
+            points,
+            disks,
+            coverage,
+            photons,
+            point_wl,
+            grid,
+            ..
         } = out;
         batches.resize_with(depths.len().div_ceil(CAMERA_BATCH), CameraBatch::default);
         // (one batch per task at most, see ITEMS_PER_TASK: the batches' costs differ widely)
@@ -247,15 +257,14 @@ impl Iteration {
         }
         owners.resize(n_points, 0);
         point_wl.resize(n_points, self.wl);
-        // every point's gather radii (the covered shares only matter where photons landed, an
-        // empty disk's estimate being 0 whatever its share, so they are measured after the
-        // photon pass, for those disks only) and the gather disks, in the same parallel join
-        let unmeasured = GatherRadii { indirect: 0.0, caustic: 0.0, indirect_coverage: 1.0, caustic_coverage: 1.0 };
-        radii.resize(n_points, unmeasured);
+        // every point's gather disk and its covered shares, taken as full in the same parallel
+        // join (they only matter where photons landed, an empty disk's estimate being 0
+        // whatever its share, so they are measured after the photon pass, for those disks only)
+        coverage.resize(n_points, DiskCoverage::FULL);
         disks.resize(n_points, GatherDisk::default());
         let (batches, first) = (&*batches, &*batch_first_point);
         for_each_part(
-            PointLists { points, owners, point_wl, radii, disks },
+            PointLists { points, owners, point_wl, coverage, disks },
             0..batches.len(),
             &|lists: PointLists, lo, mid| lists.split_at(first[mid] - first[lo]),
             &|b, slot| {
@@ -270,9 +279,8 @@ impl Iteration {
                 }
                 for (j, vp) in slot.points.iter().enumerate() {
                     let r = radius_of(slot.owners[j], vp);
-                    let caustic = r * settings.caustic_ratio;
-                    slot.radii[j] = GatherRadii { indirect: r, caustic, ..unmeasured };
-                    slot.disks[j] = GatherDisk { p: vp.p, indirect: r, ng: vp.ng, caustic };
+                    slot.coverage[j] = DiskCoverage::FULL;
+                    slot.disks[j] = GatherDisk { p: vp.p, indirect: r, ng: vp.ng, caustic: r * settings.caustic_ratio };
                 }
             },
         );
@@ -293,16 +301,16 @@ impl Iteration {
             photons,
         );
         lap(&mut seconds.photons);
-        radii
+        coverage
             .par_iter_mut()
             .enumerate()
             .with_max_len(super::ITEMS_PER_TASK)
             .filter(|(j, _)| photons.sums[*j].photons > 0)
-            .for_each(|(j, g)| {
+            .for_each(|(j, c)| {
                 let rotation = (mix64(self.seed ^ mix64(((self.k as u64) << 40) ^ j as u64)) >> 40) as f32
                     * (std::f32::consts::TAU / (1u64 << 24) as f32);
-                (g.indirect_coverage, g.caustic_coverage) =
-                    coverage::disk_coverage(scene, &points[j], g.indirect, g.caustic, rotation);
+                let disk = &disks[j];
+                (c.indirect, c.caustic) = disk_coverage(scene, &points[j], disk.indirect, disk.caustic, rotation);
             });
         lap(&mut seconds.coverage);
         out.grid_bytes = out.grid.memory_bytes();
@@ -339,7 +347,7 @@ pub fn radius_pilot(
     // photons per fully covered disk
     let mut count = vec![(0.0f32, 0u32); depths.len()];
     for (j, &i) in r.owners.iter().enumerate() {
-        count[i].0 += r.photons.sums[j].photons as f32 / r.radii[j].indirect_coverage;
+        count[i].0 += r.photons.sums[j].photons as f32 / r.coverage[j].indirect;
         count[i].1 += 1;
     }
     count
@@ -363,7 +371,13 @@ struct Gathered {
 
 /// L^I of one visibility point: beta * sum(f Phi) / (N pi r^2 c) for the indirect and caustic
 /// photon classes, each with its own radius r and covered share c of its disk.
-fn gathered_radiance(sums: &PhotonSums, radii: &GatherRadii, n_photons: u64, beta: SampledSpectrum) -> Gathered {
+fn gathered_radiance(
+    sums: &PhotonSums,
+    disk: &GatherDisk,
+    coverage: &DiskCoverage,
+    n_photons: u64,
+    beta: SampledSpectrum,
+) -> Gathered {
     let estimate = |s: &[f64; 4], r: f32, coverage: f32| {
         let area = PI * (r as f64) * (r as f64) * coverage as f64 * n_photons as f64;
         if !(area > 0.0 && area.is_finite()) {
@@ -372,9 +386,9 @@ fn gathered_radiance(sums: &PhotonSums, radii: &GatherRadii, n_photons: u64, bet
         SampledSpectrum(std::array::from_fn(|k| (s[k] / area) as f32)) * beta
     };
     Gathered {
-        indirect_radius: estimate(&sums.indirect, radii.indirect, radii.indirect_coverage),
-        caustic_radius: estimate(&sums.caustic, radii.caustic, radii.caustic_coverage),
-        specular_only: estimate(&sums.specular_only, radii.caustic, radii.caustic_coverage),
+        indirect_radius: estimate(&sums.indirect, disk.indirect, coverage.indirect),
+        caustic_radius: estimate(&sums.caustic, disk.caustic, coverage.caustic),
+        specular_only: estimate(&sums.specular_only, disk.caustic, coverage.caustic),
     }
 }
 
@@ -389,14 +403,14 @@ impl IterationResult<'_> {
         for p in self.batches.iter().flat_map(|b| &b.paths) {
             first.push(first[first.len() - 1] + p.points as usize);
         }
-        let (batches, first, points, sums, radii) =
-            (&self.batches, &self.first_point, &self.points, &self.photons.sums, &self.radii);
+        let (batches, first, points, sums, disks, coverage) =
+            (&self.batches, &self.first_point, &self.points, &self.photons.sums, &self.disks, &self.coverage);
         move |i| {
             let p = &batches[i / CAMERA_BATCH].paths[i % CAMERA_BATCH];
             let mut l = p.radiance;
             for j in first[i]..first[i + 1] {
                 let vp = &points[j];
-                let g = gathered_radiance(&sums[j], &radii[j], n_photons, vp.beta);
+                let g = gathered_radiance(&sums[j], &disks[j], &coverage[j], n_photons, vp.beta);
                 l.add_indirect(g.caustic_radius, false);
                 l.add_indirect(g.indirect_radius, false);
                 // the caustic layer: light -> specular+ -> this first non-specular vertex -> eye

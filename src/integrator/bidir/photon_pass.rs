@@ -35,21 +35,24 @@ pub const MIN_NORMAL_COS: f32 = 0.5;
 /// s, so nothing of a curved surface is excluded while r < R / 2.
 pub const MAX_PLANE_DISTANCE: f32 = 0.25;
 
-/// Gather radii of one visibility point in the current iteration.
+/// Shares of one visibility point's gather disks that can receive photons
+/// ([`super::coverage`]; the radii are its [`GatherDisk`]'s).
 #[derive(Clone, Copy, Debug)]
-pub struct GatherRadii {
-    /// Radius for photons that bounced off non-specular surfaces before.
+pub struct DiskCoverage {
+    /// Share of the indirect disk.
     pub indirect: f32,
-    /// Radius for caustic photons (all bounces specular).
+    /// Share of the caustic disk.
     pub caustic: f32,
-    /// Share of the indirect disk that can receive photons ([`super::coverage`]).
-    pub indirect_coverage: f32,
-    /// Share of the caustic disk that can receive photons.
-    pub caustic_coverage: f32,
 }
 
-/// What a photon's first tests read of a visibility point: its gather disk's centre, normal and
-/// radii (this iteration's [`GatherRadii`]), 32 bytes in one cache line. Most of a grid cell's
+impl DiskCoverage {
+    /// A disk taken as fully covered (one that received no photon is never measured: its
+    /// estimate is 0 whatever its share).
+    pub const FULL: Self = Self { indirect: 1.0, caustic: 1.0 };
+}
+
+/// A visibility point's gather disk in the current iteration: centre, normal and radii, 32
+/// bytes in one cache line, what a photon's first tests read. Most of a grid cell's
 /// candidates are out of a photon's reach; testing them here instead of in the points (a few
 /// cache lines each) and their radii keeps the photon pass from waiting on memory once the
 /// points outgrow the caches (`auto`, glossy room, 1024x768: the photon pass took 1.8x the time
