@@ -14,7 +14,7 @@ use rayon::prelude::*;
 
 use super::coverage::disk_coverage;
 use super::grid::VisibilityGrid;
-use super::photon_pass::{self, DiskCoverage, GatherDisk, PhotonSums, trace_photons};
+use super::photon_pass::{self, DiskCoverage, GatherDisk, PhotonRecord, PhotonSums, trace_photons};
 use super::ranges::for_each_part;
 use super::settings::VismapSettings;
 use super::visibility_point::{CameraPathResult, GatherRule, VisibilityPoint, trace_camera_path};
@@ -89,6 +89,8 @@ pub struct Iteration {
     pub wl: SampledWavelengths,
     /// Photons traced.
     pub n_photons: u64,
+    /// What the photon pass keeps: the sums of an iteration, or the counts of the radius pilot.
+    pub record: PhotonRecord,
 }
 
 /// What [`Iteration::run`] produced. A render keeps one and hands it to every iteration, which
@@ -298,6 +300,7 @@ impl Iteration {
             self.photon_seed,
             self.k,
             base_rule.cone_cos,
+            self.record,
             photons,
         );
         lap(&mut seconds.photons);
@@ -324,9 +327,11 @@ impl Iteration {
 /// a disk holds about that many photons; dim pixels keep the default (scale 1). The
 /// photon-mapping bias grows with the radius squared, so many photons per iteration buy a
 /// small radius instead of a needlessly precise blur. Every shard computes the same pilot.
+/// Its photon pass only counts ([`PhotonRecord::Counts`]), and it runs in the render's own
+/// lists `r`, which the first iteration then refills instead of growing a second set.
 #[allow(clippy::too_many_arguments)]
-pub fn radius_pilot(
-    scene: &Scene,
+pub fn radius_pilot<'s>(
+    scene: &'s Scene,
     camera: &Camera,
     settings: &VismapSettings,
     base_rule: &GatherRule,
@@ -334,16 +339,16 @@ pub fn radius_pilot(
     seed: u64,
     photon_seed: u64,
     n_photons: u64,
+    r: &mut IterationResult<'s>,
 ) -> Vec<f32> {
     if settings.radius.is_some() {
         return vec![1.0; depths.len()];
     }
     let wl = SampledWavelengths::sample_visible(iteration_wavelength_u(seed, 0));
     let pixel_angle = camera.pixel_solid_angle().sqrt();
-    let it = Iteration { seed, photon_seed, k: 0, wl, n_photons };
+    let it = Iteration { seed, photon_seed, k: 0, wl, n_photons, record: PhotonRecord::Counts };
     let radius_of = |_: usize, vp: &VisibilityPoint| settings.radius_pixels * pixel_angle * vp.footprint_distance;
-    let mut r = IterationResult::default();
-    it.run(scene, camera, settings, base_rule, depths, radius_of, &mut r);
+    it.run(scene, camera, settings, base_rule, depths, radius_of, r);
     // photons per fully covered disk
     let mut count = vec![(0.0f32, 0u32); depths.len()];
     for (j, &i) in r.owners.iter().enumerate() {
@@ -426,6 +431,43 @@ impl IterationResult<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use quasar_importers::{ImportOptions, parse_toml_scene};
+
+    #[test]
+    fn the_radius_pilots_counts_are_the_photons_an_iteration_gathers() {
+        // one iteration of the glossy room (a narrow floor, quasi-specular cones) with its photon
+        // pass kept as sums and as counts: every point counts exactly the photons it summed,
+        // and the counting pass evaluates nothing
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/glossy-room/glossy-room.toml");
+        let text = std::fs::read_to_string(&path).unwrap();
+        let desc = parse_toml_scene(&text, &path, &ImportOptions::default()).unwrap();
+        let scene = Scene::compile(&desc).unwrap();
+        let camera = Camera::new(&desc.camera, 40, 30).unwrap();
+        let rule = GatherRule { depth: 0, cone_cos: Some(10f32.to_radians().cos()), max_specular: 16 };
+        let depths = vec![Some(0); 40 * 30];
+        let gather = |record| {
+            let it = Iteration {
+                seed: 3,
+                photon_seed: 5,
+                k: 1,
+                wl: SampledWavelengths::sample_visible(0.3),
+                n_photons: 20_000,
+                record,
+            };
+            let mut r = IterationResult::default();
+            it.run(&scene, &camera, &VismapSettings::default(), &rule, &depths, |_, _| 0.1, &mut r);
+            (r.photons.sums, r.photons.lookups)
+        };
+        let (sums, lookups) = gather(PhotonRecord::Sums);
+        let (counts, count_lookups) = gather(PhotonRecord::Counts);
+        assert_eq!(lookups, count_lookups);
+        assert_eq!(sums.len(), counts.len());
+        let photons: Vec<u32> = sums.iter().map(|s| s.photons).collect();
+        assert_eq!(photons, counts.iter().map(|s| s.photons).collect::<Vec<_>>());
+        assert!(photons.iter().map(|&n| n as u64).sum::<u64>() > 10_000, "too few photons gathered to compare");
+        assert!(sums.iter().any(|s| s.indirect.iter().any(|&v| v > 0.0)));
+        assert!(counts.iter().all(|s| s.indirect == [0.0; 4] && s.caustic == [0.0; 4] && s.specular_only == [0.0; 4]));
+    }
 
     #[test]
     fn radius_schedule_is_the_ppm_recurrence() {

@@ -13,6 +13,7 @@ use super::adaptive_depth::GatherDepths;
 use super::iteration::{
     Iteration, IterationResult, PhaseSeconds, iteration_wavelength_u, radius_pilot, radius2_factor,
 };
+use super::photon_pass::PhotonRecord;
 use super::settings::VismapSettings;
 use super::visibility_point::{GatherRule, VisibilityPoint};
 use crate::core::bytes::{ByteReader, ByteWriter};
@@ -99,8 +100,17 @@ impl<'s> Bidirectional<'s> {
         if self.radius_scales.is_none() {
             let mut first = Vec::new();
             self.depths.for_iteration(scene, camera, &settings, &rule, seed, 1, wl_of, &mut first);
-            let scales =
-                radius_pilot(scene, camera, &settings, &rule, &first, seed, self.photon_seed(), self.n_photons);
+            let scales = radius_pilot(
+                scene,
+                camera,
+                &settings,
+                &rule,
+                &first,
+                seed,
+                self.photon_seed(),
+                self.n_photons,
+                &mut self.result,
+            );
             self.radius_scales = Some(scales);
             self.first_depths = Some(first);
         }
@@ -127,7 +137,14 @@ impl<'s> Bidirectional<'s> {
         let radius_of = |i: usize, vp: &VisibilityPoint| {
             settings.radius.unwrap_or(settings.radius_pixels * pixel_angle * vp.footprint_distance * scales[i]) * shrink
         };
-        let it = Iteration { seed: self.seed, photon_seed: self.photon_seed(), k, wl: self.wavelengths(k), n_photons };
+        let it = Iteration {
+            seed: self.seed,
+            photon_seed: self.photon_seed(),
+            k,
+            wl: self.wavelengths(k),
+            n_photons,
+            record: PhotonRecord::Sums,
+        };
         let t = Instant::now();
         let result = &mut self.result;
         it.run(self.scene, self.camera, &settings, &self.rule, &depths, radius_of, result);

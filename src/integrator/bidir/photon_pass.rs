@@ -3,6 +3,8 @@
 //! non-specular hit after at least one bounce add f(wo, wi) * flux to the visibility points whose
 //! gather disk contains the hit.
 
+use std::sync::atomic::{AtomicU32, Ordering};
+
 use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
 use quasar_materials::{NARROW_KAPPA, TransportMode};
 use rayon::prelude::*;
@@ -108,6 +110,46 @@ pub struct PhotonSums {
     pub photons: u32,
 }
 
+/// What a photon pass keeps of the photons its visibility points accept.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PhotonRecord {
+    /// Every point's [`PhotonSums`], f * flux by photon class: an iteration's estimate.
+    Sums,
+    /// Only how many photons each point accepted ([`PhotonSums::photons`]; the spectral sums
+    /// stay 0): the radius pilot's photon density, without a BSDF evaluation or a deposit per
+    /// accepted photon (at the pilot's default radii, 7.6 per look-up in the glossy room at
+    /// 1024x768; BENCHMARKS.md "The radius pilot counts").
+    Counts,
+}
+
+/// Receives the photons the visibility points accept during one photon's path.
+trait Gatherer {
+    /// Point `vi` accepted a photon of class `caustic` (`specular_only`: every bounce was
+    /// specular); `value` computes its f * flux, None when that is not finite.
+    fn accept(&mut self, vi: u32, caustic: bool, specular_only: bool, value: impl FnOnce() -> Option<SampledSpectrum>);
+}
+
+/// A chunk's deposits, in photon order ([`PhotonRecord::Sums`]).
+impl Gatherer for Vec<Deposit> {
+    #[inline]
+    fn accept(&mut self, vi: u32, caustic: bool, specular_only: bool, value: impl FnOnce() -> Option<SampledSpectrum>) {
+        if let Some(value) = value() {
+            self.push(Deposit { point: vi, caustic, specular_only, value });
+        }
+    }
+}
+
+/// Photons accepted per point, shared by every thread ([`PhotonRecord::Counts`]: integer sums
+/// do not depend on the order of the additions).
+struct PhotonCounts<'a>(&'a [AtomicU32]);
+
+impl Gatherer for PhotonCounts<'_> {
+    #[inline]
+    fn accept(&mut self, vi: u32, _: bool, _: bool, _: impl FnOnce() -> Option<SampledSpectrum>) {
+        self.0[vi as usize].fetch_add(1, Ordering::Relaxed);
+    }
+}
+
 /// One photon's contribution to one visibility point.
 #[derive(Clone, Copy, Debug)]
 struct Deposit {
@@ -144,10 +186,11 @@ thread_local! {
 }
 
 /// Traces `n_photons` photons at the iteration's wavelengths `wl` with streams keyed by
-/// (`seed`, `iteration`, photon number) into `out` (its sums one per visibility point). With a
-/// quasi-specular cone (`cone_cos`), bounces inside it keep a photon a caustic photon. The
-/// reduction adds every point's deposits in photon order (ranges of points in parallel), so the
-/// result is the same for any thread count.
+/// (`seed`, `iteration`, photon number) into `out` (its sums one per visibility point, all of
+/// them or the photon counts alone as `record` says). With a quasi-specular cone (`cone_cos`),
+/// bounces inside it keep a photon a caustic photon. The reduction adds every point's deposits
+/// in photon order (ranges of points in parallel), so the result is the same for any thread
+/// count.
 #[allow(clippy::too_many_arguments)]
 pub fn trace_photons(
     scene: &Scene,
@@ -160,9 +203,30 @@ pub fn trace_photons(
     seed: u64,
     iteration: u32,
     cone_cos: Option<f32>,
+    record: PhotonRecord,
     out: &mut PhotonPassResult,
 ) {
     let n_chunks = n_photons.div_ceil(CHUNK as u64) as usize;
+    let photons_of = |c: usize| c as u64 * CHUNK as u64..((c as u64 + 1) * CHUNK as u64).min(n_photons);
+    if record == PhotonRecord::Counts {
+        let counts: Vec<AtomicU32> = points.iter().map(|_| AtomicU32::new(0)).collect();
+        out.lookups = (0..n_chunks)
+            .into_par_iter()
+            .with_max_len(1)
+            .map(|c| {
+                let mut gatherer = PhotonCounts(&counts);
+                photons_of(c)
+                    .map(|i| {
+                        let mut sampler = Sampler::new(seed, i, iteration as u64);
+                        trace_photon(scene, wl, points, point_wl, disks, grid, cone_cos, &mut sampler, &mut gatherer)
+                    })
+                    .sum::<u64>()
+            })
+            .sum();
+        out.sums.clear();
+        out.sums.extend(counts.into_iter().map(|c| PhotonSums { photons: c.into_inner(), ..PhotonSums::default() }));
+        return;
+    }
     // the points fall into ranges that are summed in parallel; every chunk of photons sorts its
     // deposits by range (stably), so that each range adds its deposits in photon order
     let range = points.len().div_ceil(4 * rayon::current_num_threads()).max(1);
@@ -172,12 +236,10 @@ pub fn trace_photons(
     chunks.par_iter_mut().enumerate().with_max_len(1).for_each(|(c, chunk)| {
         // (tracing a photon starts no parallel work, so the thread's list is not borrowed twice)
         DEPOSITS.with_borrow_mut(|deposits| {
-            let c = c as u64;
             deposits.clear();
             deposits.reserve(2 * CHUNK);
             chunk.lookups = 0;
-            let end = ((c + 1) * CHUNK as u64).min(n_photons);
-            for i in c * CHUNK as u64..end {
+            for i in photons_of(c) {
                 let mut sampler = Sampler::new(seed, i, iteration as u64);
                 chunk.lookups +=
                     trace_photon(scene, wl, points, point_wl, disks, grid, cone_cos, &mut sampler, deposits);
@@ -209,7 +271,8 @@ pub fn trace_photons(
     *lookups = chunks.iter().map(|c| c.lookups).sum();
 }
 
-/// One photon path. Returns the number of grid lookups made.
+/// One photon path, its accepted arrivals given to `gatherer`. Returns the number of grid
+/// lookups made.
 #[allow(clippy::too_many_arguments)]
 fn trace_photon(
     scene: &Scene,
@@ -220,7 +283,7 @@ fn trace_photon(
     grid: &VisibilityGrid,
     cone_cos: Option<f32>,
     sampler: &mut Sampler,
-    deposits: &mut Vec<Deposit>,
+    gatherer: &mut impl Gatherer,
 ) -> u64 {
     let Some((light_index, p_select)) = scene.light_sampler.sample(sampler.get_1d()) else { return 0 };
     let u_pos = sampler.get_2d();
@@ -268,22 +331,22 @@ fn trace_photon(
                 if cos_g <= 0.0 {
                     continue;
                 }
-                let f = vp.bsdf.f(vp.wo_local, wi_local, TransportMode::Radiance);
-                let mut value = f * beta * (wi_local.z.abs() / cos_g);
-                // a dispersive event on either subpath makes the whole path hero-only: the
-                // visibility point's wavelengths carry the hero's 1/N pdf once
-                let (vp_term, ph_term) = (point_wl[vi as usize].secondary_terminated(), wl.secondary_terminated());
-                if vp_term || ph_term {
-                    for k in 1..4 {
-                        value[k] = 0.0;
+                gatherer.accept(vi, caustic, specular_only, || {
+                    let f = vp.bsdf.f(vp.wo_local, wi_local, TransportMode::Radiance);
+                    let mut value = f * beta * (wi_local.z.abs() / cos_g);
+                    // a dispersive event on either subpath makes the whole path hero-only: the
+                    // visibility point's wavelengths carry the hero's 1/N pdf once
+                    let (vp_term, ph_term) = (point_wl[vi as usize].secondary_terminated(), wl.secondary_terminated());
+                    if vp_term || ph_term {
+                        for k in 1..4 {
+                            value[k] = 0.0;
+                        }
+                        if ph_term && !vp_term {
+                            value[0] *= 4.0;
+                        }
                     }
-                    if ph_term && !vp_term {
-                        value[0] *= 4.0;
-                    }
-                }
-                if value.is_finite() {
-                    deposits.push(Deposit { point: vi, caustic, specular_only, value });
-                }
+                    value.is_finite().then_some(value)
+                });
             }
         }
         let frame = si.frame();
