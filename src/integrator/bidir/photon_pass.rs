@@ -118,7 +118,8 @@ pub enum PhotonRecord {
     /// Only how many photons each point accepted ([`PhotonSums::photons`]; the spectral sums
     /// stay 0): the radius pilot's photon density, without a BSDF evaluation or a deposit per
     /// accepted photon (at the pilot's default radii, 7.6 per look-up in the glossy room at
-    /// 1024x768; BENCHMARKS.md "The radius pilot counts").
+    /// 1024x768; BENCHMARKS.md "The radius pilot counts"). The one difference from `Sums`'
+    /// count: a photon whose value would not be finite, which `Sums` drops, is counted.
     Counts,
 }
 
