@@ -10,6 +10,7 @@
 //! passes with a per-pixel gather depth and a cone C around ideal directions.
 
 pub mod adaptive_depth;
+mod arrival;
 pub mod coverage;
 pub mod grid;
 pub mod iteration;

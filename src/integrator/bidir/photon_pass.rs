@@ -3,14 +3,15 @@
 //! non-specular hit after at least one bounce add f(wo, wi) * flux to the visibility points whose
 //! gather disk contains the hit.
 
-use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::atomic::AtomicU32;
 
-use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
+use quasar_materials::spectrum::SampledWavelengths;
 use quasar_materials::{NARROW_KAPPA, TransportMode};
 use rayon::prelude::*;
 
+use super::arrival::{Arrival, Deposit, Deposits, Gatherer, PhotonCounts, PointSides, point_sides};
 use super::grid::{GatherRegion, VisibilityGrid};
-use super::quasi_cone::{QuasiCone, in_cone};
+use super::quasi_cone::QuasiCone;
 use super::ranges::ByRange;
 use super::visibility_point::VisibilityPoint;
 use crate::core::geometry::Ray;
@@ -118,46 +119,11 @@ pub enum PhotonRecord {
     /// Only how many photons each point accepted ([`PhotonSums::photons`]; the spectral sums
     /// stay 0): the radius pilot's photon density, without a BSDF evaluation or a deposit per
     /// accepted photon (at the pilot's default radii, 7.6 per look-up in the glossy room at
-    /// 1024x768; BENCHMARKS.md "The radius pilot counts"). The one difference from `Sums`'
-    /// count: a photon whose value would not be finite, which `Sums` drops, is counted.
+    /// 1024x768; BENCHMARKS.md "The radius pilot counts"), and for a point without a
+    /// quasi-specular cone without reading the point (`arrival::PhotonCounts`). The one
+    /// difference from `Sums`' count: a photon whose value would not be finite, which `Sums`
+    /// drops, is counted.
     Counts,
-}
-
-/// Receives the photons the visibility points accept during one photon's path.
-trait Gatherer {
-    /// Point `vi` accepted a photon of class `caustic` (`specular_only`: every bounce was
-    /// specular); `value` computes its f * flux, None when that is not finite.
-    fn accept(&mut self, vi: u32, caustic: bool, specular_only: bool, value: impl FnOnce() -> Option<SampledSpectrum>);
-}
-
-/// A chunk's deposits, in photon order ([`PhotonRecord::Sums`]).
-impl Gatherer for Vec<Deposit> {
-    #[inline]
-    fn accept(&mut self, vi: u32, caustic: bool, specular_only: bool, value: impl FnOnce() -> Option<SampledSpectrum>) {
-        if let Some(value) = value() {
-            self.push(Deposit { point: vi, caustic, specular_only, value });
-        }
-    }
-}
-
-/// Photons accepted per point, shared by every thread ([`PhotonRecord::Counts`]: integer sums
-/// do not depend on the order of the additions).
-struct PhotonCounts<'a>(&'a [AtomicU32]);
-
-impl Gatherer for PhotonCounts<'_> {
-    #[inline]
-    fn accept(&mut self, vi: u32, _: bool, _: bool, _: impl FnOnce() -> Option<SampledSpectrum>) {
-        self.0[vi as usize].fetch_add(1, Ordering::Relaxed);
-    }
-}
-
-/// One photon's contribution to one visibility point.
-#[derive(Clone, Copy, Debug)]
-struct Deposit {
-    point: u32,
-    caustic: bool,
-    specular_only: bool,
-    value: SampledSpectrum,
 }
 
 /// What one photon pass produced. A render keeps one and hands it to every iteration's pass,
@@ -211,15 +177,16 @@ pub fn trace_photons(
     let photons_of = |c: usize| c as u64 * CHUNK as u64..((c as u64 + 1) * CHUNK as u64).min(n_photons);
     if record == PhotonRecord::Counts {
         let counts: Vec<AtomicU32> = points.iter().map(|_| AtomicU32::new(0)).collect();
+        let sides: Vec<PointSides> = points.par_iter().map(point_sides).collect();
         out.lookups = (0..n_chunks)
             .into_par_iter()
             .with_max_len(1)
             .map(|c| {
-                let mut gatherer = PhotonCounts(&counts);
+                let mut gatherer = PhotonCounts { counts: &counts, points, sides: &sides };
                 photons_of(c)
                     .map(|i| {
                         let mut sampler = Sampler::new(seed, i, iteration as u64);
-                        trace_photon(scene, wl, points, point_wl, disks, grid, cone_cos, &mut sampler, &mut gatherer)
+                        trace_photon(scene, wl, disks, grid, cone_cos, &mut sampler, &mut gatherer)
                     })
                     .sum::<u64>()
             })
@@ -240,10 +207,10 @@ pub fn trace_photons(
             deposits.clear();
             deposits.reserve(2 * CHUNK);
             chunk.lookups = 0;
+            let mut gatherer = Deposits { list: deposits, points, point_wl };
             for i in photons_of(c) {
                 let mut sampler = Sampler::new(seed, i, iteration as u64);
-                chunk.lookups +=
-                    trace_photon(scene, wl, points, point_wl, disks, grid, cone_cos, &mut sampler, deposits);
+                chunk.lookups += trace_photon(scene, wl, disks, grid, cone_cos, &mut sampler, &mut gatherer);
             }
             chunk.grouped.regroup(deposits, n_ranges, |d| d.point as usize / range);
         });
@@ -278,8 +245,6 @@ pub fn trace_photons(
 fn trace_photon(
     scene: &Scene,
     wl_iteration: &SampledWavelengths,
-    points: &[VisibilityPoint],
-    point_wl: &[SampledWavelengths],
     disks: &[GatherDisk],
     grid: &VisibilityGrid,
     cone_cos: Option<f32>,
@@ -316,38 +281,15 @@ fn trace_photon(
                 {
                     continue;
                 }
-                let vp = &points[vi as usize];
-                // a reflector only sees photons that arrived on its viewer's side of the surface
-                // the photon hit (no light through a wall from inside a closed object)
-                if !vp.bsdf.has_transmission() && (wi_photon.dot(si.ng) > 0.0) != vp.viewer_above {
-                    continue;
-                }
-                // the photon density measures irradiance on the geometric surface; the BSDF
-                // integrates against the shading cosine: |wi . ns| / |wi . ng| (Veach 1997, 5.3)
-                let wi_local = vp.frame.to_local(wi_photon);
-                if in_cone(&vp.cone, wi_local) {
-                    continue; // the path continued through the cone estimates this light
-                }
-                let cos_g = wi_photon.dot(vp.ng).abs();
-                if cos_g <= 0.0 {
-                    continue;
-                }
-                gatherer.accept(vi, caustic, specular_only, || {
-                    let f = vp.bsdf.f(vp.wo_local, wi_local, TransportMode::Radiance);
-                    let mut value = f * beta * (wi_local.z.abs() / cos_g);
-                    // a dispersive event on either subpath makes the whole path hero-only: the
-                    // visibility point's wavelengths carry the hero's 1/N pdf once
-                    let (vp_term, ph_term) = (point_wl[vi as usize].secondary_terminated(), wl.secondary_terminated());
-                    if vp_term || ph_term {
-                        for k in 1..4 {
-                            value[k] = 0.0;
-                        }
-                        if ph_term && !vp_term {
-                            value[0] *= 4.0;
-                        }
-                    }
-                    value.is_finite().then_some(value)
-                });
+                let arrival = Arrival {
+                    caustic,
+                    specular_only,
+                    hero_only: wl.secondary_terminated(),
+                    above: wi_photon.dot(si.ng) > 0.0,
+                    wi: wi_photon,
+                    beta,
+                };
+                gatherer.arrive(vi, disk, &arrival);
             }
         }
         let frame = si.frame();
