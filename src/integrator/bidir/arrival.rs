@@ -9,7 +9,6 @@ use std::sync::atomic::{AtomicU32, Ordering};
 use quasar_materials::TransportMode;
 use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
 
-use super::photon_pass::GatherDisk;
 use super::quasi_cone::in_cone;
 use super::visibility_point::VisibilityPoint;
 
@@ -54,11 +53,12 @@ pub(super) fn admits(vp: &VisibilityPoint, a: &Arrival) -> Option<(glam::Vec3, f
 
 /// Receives the arrivals of one photon's path.
 pub(super) trait Gatherer {
-    /// The photon arrived inside the gather disk `disk` of point `vi`.
-    fn arrive(&mut self, vi: u32, disk: &GatherDisk, a: &Arrival);
+    /// The photon arrived inside the gather disk of point `vi`, whose unit geometric normal
+    /// is `ng` (the disk's copy of the point's).
+    fn arrive(&mut self, vi: u32, ng: glam::Vec3, a: &Arrival);
 }
 
-/// A chunk's deposits, in photon order ([`super::photon_pass::PhotonRecord::Sums`]).
+/// A chunk's deposits, in photon order (an iteration's photon pass).
 pub(super) struct Deposits<'a, 'p> {
     /// The chunk's list.
     pub(super) list: &'a mut Vec<Deposit>,
@@ -70,7 +70,7 @@ pub(super) struct Deposits<'a, 'p> {
 
 impl Gatherer for Deposits<'_, '_> {
     #[inline]
-    fn arrive(&mut self, vi: u32, _: &GatherDisk, a: &Arrival) {
+    fn arrive(&mut self, vi: u32, _: glam::Vec3, a: &Arrival) {
         let vp = &self.points[vi as usize];
         let Some((wi_local, cos_g)) = admits(vp, a) else { return };
         let f = vp.bsdf.f(vp.wo_local, wi_local, TransportMode::Radiance);
@@ -110,9 +110,8 @@ pub(super) fn point_sides(vp: &VisibilityPoint) -> PointSides {
         | (vp.cone.is_some() as u8 * HAS_CONE)
 }
 
-/// Photons accepted per point, shared by every thread
-/// ([`super::photon_pass::PhotonRecord::Counts`]: integer sums do not depend on the order of
-/// the additions).
+/// Photons accepted per point, shared by every thread (the radius pilot's photon pass: integer
+/// sums do not depend on the order of the additions).
 pub(super) struct PhotonCounts<'a, 'p> {
     /// Per point.
     pub(super) counts: &'a [AtomicU32],
@@ -124,13 +123,13 @@ pub(super) struct PhotonCounts<'a, 'p> {
 
 impl Gatherer for PhotonCounts<'_, '_> {
     #[inline]
-    fn arrive(&mut self, vi: u32, disk: &GatherDisk, a: &Arrival) {
+    fn arrive(&mut self, vi: u32, ng: glam::Vec3, a: &Arrival) {
         let sides = self.sides[vi as usize];
         // without a cone, `admits` is the side test and |wi . ng| > 0 (the disk's normal is
         // the point's; a NaN passes there as here)
         let admitted = if sides & HAS_CONE == 0 {
             (sides & GATHERS_BOTH_SIDES != 0 || a.above == (sides & VIEWER_ABOVE != 0)) && {
-                let cos_g = a.wi.dot(disk.ng).abs();
+                let cos_g = a.wi.dot(ng).abs();
                 cos_g > 0.0 || cos_g.is_nan()
             }
         } else {
@@ -197,8 +196,6 @@ mod tests {
                 }
             })
             .collect();
-        let disks: Vec<GatherDisk> =
-            points.iter().map(|vp| GatherDisk { p: vp.p, indirect: 1.0, ng: vp.ng, caustic: 1.0 }).collect();
         let sides: Vec<PointSides> = points.iter().map(point_sides).collect();
         let counts: Vec<AtomicU32> = points.iter().map(|_| AtomicU32::new(0)).collect();
         let mut gatherer = PhotonCounts { counts: &counts, points: &points, sides: &sides };
@@ -218,7 +215,7 @@ mod tests {
                 beta: SampledSpectrum::one(),
             };
             expected[vi] += admits(&points[vi], &a).is_some() as u32;
-            gatherer.arrive(vi as u32, &disks[vi], &a);
+            gatherer.arrive(vi as u32, ng, &a);
         }
         let counted: Vec<u32> = counts.into_iter().map(AtomicU32::into_inner).collect();
         assert_eq!(counted, expected);

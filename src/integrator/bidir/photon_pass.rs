@@ -289,7 +289,7 @@ fn trace_photon(
                     wi: wi_photon,
                     beta,
                 };
-                gatherer.arrive(vi, disk, &arrival);
+                gatherer.arrive(vi, disk.ng, &arrival);
             }
         }
         let frame = si.frame();
