@@ -435,9 +435,10 @@ mod tests {
 
     #[test]
     fn the_radius_pilots_counts_are_the_photons_an_iteration_gathers() {
-        // one iteration of the glossy room (a narrow floor, quasi-specular cones) with its photon
-        // pass kept as sums and as counts: every point counts exactly the photons it summed,
-        // and the counting pass evaluates nothing
+        // one iteration of the glossy room (its narrow floor passed through, the gather points on
+        // diffuse surfaces without a cone: points with a cone are covered by
+        // `arrival`'s test) with its photon pass kept as sums and as counts: every point counts
+        // exactly the photons it summed, and the counting pass evaluates nothing
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/glossy-room/glossy-room.toml");
         let text = std::fs::read_to_string(&path).unwrap();
         let desc = parse_toml_scene(&text, &path, &ImportOptions::default()).unwrap();

@@ -271,6 +271,15 @@ fn trace_photon(
         let wi_photon = -ray.dir;
         if bounce > 0 && !bsdf.is_specular() {
             lookups += 1;
+            // the photon at this hit, whichever point's disk it lands in
+            let arrival = Arrival {
+                caustic,
+                specular_only,
+                hero_only: wl.secondary_terminated(),
+                above: wi_photon.dot(si.ng) > 0.0,
+                wi: wi_photon,
+                beta,
+            };
             for &vi in grid.candidates(si.p) {
                 let disk = &disks[vi as usize];
                 let r = if caustic { disk.caustic } else { disk.indirect };
@@ -281,14 +290,6 @@ fn trace_photon(
                 {
                     continue;
                 }
-                let arrival = Arrival {
-                    caustic,
-                    specular_only,
-                    hero_only: wl.secondary_terminated(),
-                    above: wi_photon.dot(si.ng) > 0.0,
-                    wi: wi_photon,
-                    beta,
-                };
                 gatherer.arrive(vi, disk.ng, &arrival);
             }
         }
