@@ -12,7 +12,7 @@ use std::time::Instant;
 
 use quasar::integrator::bidir::passes::Bidirectional;
 use quasar::integrator::bidir::settings::{GatherDepth, VismapSettings};
-use quasar::integrator::bidir::{photon_pass, visibility_point};
+use quasar::integrator::bidir::{gather_disk, photon_pass, visibility_point};
 use quasar::render::driver::{self, DriverOptions};
 use quasar::render::job::{JobOverrides, load_scene, render_desc};
 use quasar::tools::convergence;
@@ -41,7 +41,7 @@ fn photon_throughput(scene_path: &str) {
             let total = t.elapsed().as_secs_f64();
             let points = result.film.pixels.len();
             let per_point = std::mem::size_of::<visibility_point::VisibilityPoint>()
-                + std::mem::size_of::<photon_pass::GatherDisk>()
+                + std::mem::size_of::<gather_disk::GatherDisk>()
                 + std::mem::size_of::<photon_pass::DiskCoverage>()
                 + std::mem::size_of::<photon_pass::PhotonSums>()
                 + std::mem::size_of::<quasar::materials::spectrum::SampledWavelengths>();

@@ -8,6 +8,7 @@ pub mod env_map;
 pub mod geometry;
 pub mod light;
 pub mod luminaire;
+pub mod prefetch;
 pub mod sampling;
 pub mod scene;
 pub mod texture;

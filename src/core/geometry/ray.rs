@@ -41,6 +41,7 @@ pub fn point_error(v0: Vec3, b1e1: Vec3, b2e2: Vec3) -> Vec3 {
 /// onto the normal, then by one float step away from the surface per axis, so the offset
 /// origin is provably on `dir`'s side of the surface (pbrt-v4 section 6.8.6). The offset scales
 /// with the coordinates' magnitudes, so it is invisible at any scene scale from 1e-4 to 1e5.
+#[inline]
 pub fn offset_origin(p: Vec3, p_err: Vec3, n: Vec3, dir: Vec3) -> Vec3 {
     let d = n.abs().dot(p_err);
     let mut offset = d * n;

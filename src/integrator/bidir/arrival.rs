@@ -11,9 +11,11 @@ use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
 
 use super::quasi_cone::in_cone;
 use super::visibility_point::VisibilityPoint;
+use crate::core::prefetch::{prefetch, prefetch_all};
 
 /// A photon arriving inside a visibility point's gather disk (its distance, normal and plane
 /// tests passed), before the point's own tests.
+#[derive(Clone, Copy, Debug, Default)]
 pub(super) struct Arrival {
     /// All bounces so far specular or quasi-specular.
     pub(super) caustic: bool,
@@ -56,6 +58,10 @@ pub(super) trait Gatherer {
     /// The photon arrived inside the gather disk of point `vi`, whose unit geometric normal
     /// is `ng` (the disk's copy of the point's).
     fn arrive(&mut self, vi: u32, ng: glam::Vec3, a: &Arrival);
+
+    /// Starts loading what [`arrive`](Self::arrive) will read of point `vi` (a hint, see
+    /// `core::prefetch`).
+    fn prefetch(&self, vi: u32);
 }
 
 /// A chunk's deposits, in photon order (an iteration's photon pass).
@@ -69,7 +75,7 @@ pub(super) struct Deposits<'a, 'p> {
 }
 
 impl Gatherer for Deposits<'_, '_> {
-    #[inline]
+    #[inline(always)]
     fn arrive(&mut self, vi: u32, _: glam::Vec3, a: &Arrival) {
         let vp = &self.points[vi as usize];
         let Some((wi_local, cos_g)) = admits(vp, a) else { return };
@@ -89,6 +95,12 @@ impl Gatherer for Deposits<'_, '_> {
         if value.is_finite() {
             self.list.push(Deposit { point: vi, caustic: a.caustic, specular_only: a.specular_only, value });
         }
+    }
+
+    #[inline]
+    fn prefetch(&self, vi: u32) {
+        prefetch_all(&self.points[vi as usize]);
+        prefetch(&self.point_wl[vi as usize]);
     }
 }
 
@@ -138,6 +150,12 @@ impl Gatherer for PhotonCounts<'_, '_> {
         if admitted {
             self.counts[vi as usize].fetch_add(1, Ordering::Relaxed);
         }
+    }
+
+    #[inline]
+    fn prefetch(&self, vi: u32) {
+        prefetch(&self.sides[vi as usize]);
+        prefetch(&self.counts[vi as usize]);
     }
 }
 

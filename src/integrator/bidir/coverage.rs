@@ -16,7 +16,7 @@
 use glam::Vec3;
 use quasar_materials::Frame;
 
-use super::photon_pass::{MAX_PLANE_DISTANCE, MIN_NORMAL_COS};
+use super::gather_disk::{MAX_PLANE_DISTANCE, MIN_NORMAL_COS};
 use super::visibility_point::VisibilityPoint;
 use crate::core::geometry::Ray;
 use crate::core::scene::Scene;

@@ -219,14 +219,33 @@ impl VisibilityGrid {
     /// within their radius of `p`; the caller checks the distance).
     #[inline]
     pub fn candidates(&self, p: Vec3) -> &[u32] {
+        self.bucket(p).map_or(&[], |b| self.entries_of(b))
+    }
+
+    /// The bucket of the cell of `p` (None when the grid is empty or `p` is not finite): the
+    /// first step of [`candidates`](Self::candidates), for a caller that prefetches
+    /// ([`prefetch_bucket`](Self::prefetch_bucket)) before it reads the bucket's entries.
+    #[inline]
+    pub fn bucket(&self, p: Vec3) -> Option<usize> {
         if self.entries.is_empty() {
-            return &[];
+            return None;
         }
         let c = ((p - self.origin) * self.inv_cell).floor();
         if !c.is_finite() {
-            return &[];
+            return None;
         }
-        let b = (hash_cell(c.as_ivec3()) & self.mask) as usize;
+        Some((hash_cell(c.as_ivec3()) & self.mask) as usize)
+    }
+
+    /// Starts loading where bucket `b`'s entries begin and end.
+    #[inline]
+    pub fn prefetch_bucket(&self, b: usize) {
+        crate::core::prefetch::prefetch(&self.starts[b]);
+    }
+
+    /// The points entered in bucket `b`: [`candidates`](Self::candidates) of a position in it.
+    #[inline]
+    pub fn entries_of(&self, b: usize) -> &[u32] {
         &self.entries[self.starts[b] as usize..self.starts[b + 1] as usize]
     }
 

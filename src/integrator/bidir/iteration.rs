@@ -13,8 +13,9 @@ use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
 use rayon::prelude::*;
 
 use super::coverage::disk_coverage;
+use super::gather_disk::GatherDisk;
 use super::grid::VisibilityGrid;
-use super::photon_pass::{self, DiskCoverage, GatherDisk, PhotonRecord, PhotonSums, trace_photons};
+use super::photon_pass::{self, DiskCoverage, PhotonRecord, PhotonSums, trace_photons};
 use super::ranges::for_each_part;
 use super::settings::VismapSettings;
 use super::visibility_point::{CameraPathResult, GatherRule, VisibilityPoint, trace_camera_path};

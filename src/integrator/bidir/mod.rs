@@ -12,8 +12,10 @@
 pub mod adaptive_depth;
 mod arrival;
 pub mod coverage;
+pub mod gather_disk;
 pub mod grid;
 pub mod iteration;
+mod lookup_pipeline;
 pub mod methods;
 pub mod passes;
 pub mod photon_pass;
