@@ -100,7 +100,7 @@ impl Gatherer for Deposits<'_, '_> {
     #[inline]
     fn prefetch(&self, vi: u32) {
         prefetch_all(&self.points[vi as usize]);
-        prefetch(&self.point_wl[vi as usize]);
+        prefetch_all(&self.point_wl[vi as usize]);
     }
 }
 
