@@ -81,8 +81,8 @@ impl<'g> LookupPipeline<'g> {
         self.slots[k] = Lookup { p, ng, arrival, bucket, candidates: &[] };
     }
 
-    /// Finishes every look-up in flight, in order, and returns the lists for the thread's next
-    /// pipeline.
+    /// Finishes every look-up in flight, in order, and hands the accepted-point lists back to the
+    /// thread for its next pipeline.
     pub(super) fn finish(mut self, gatherer: &mut impl Gatherer) {
         for _ in 0..DEPTH {
             let k = self.advance(gatherer);
