@@ -178,6 +178,7 @@ mod tests {
 
     use super::*;
     use crate::core::sampling::{Sampler, uniform_sphere};
+    use crate::integrator::bidir::gather_disk::tests::normals;
     use crate::integrator::bidir::quasi_cone::QuasiCone;
 
     #[test]
@@ -191,9 +192,7 @@ mod tests {
         let glass = Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.05 }.bsdf(&mut wl);
         let white = Material::Diffuse { reflectance: Spectrum::Constant(0.5), two_sided: true }.bsdf(&mut wl);
         let mut s = Sampler::new(11, 0, 0);
-        let normals: Vec<Vec3> =
-            [Vec3::X, Vec3::NEG_Y, Vec3::Z].into_iter().chain((0..200).map(|_| uniform_sphere(s.get_2d()))).collect();
-        let points: Vec<VisibilityPoint> = normals
+        let points: Vec<VisibilityPoint> = normals(&mut s)
             .into_iter()
             .enumerate()
             .map(|(k, ng)| {

@@ -73,15 +73,16 @@ impl GatherDisk {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use glam::Vec3;
 
     use super::*;
     use crate::core::sampling::{Sampler, uniform_sphere};
     use crate::integrator::bidir::grid::VisibilityGrid;
 
-    /// Normals along the axes, just off them, at 45 degrees and random.
-    fn normals(s: &mut Sampler) -> Vec<Vec3> {
+    /// Normals along the axes, just off them, at 45 degrees and random (also the points of
+    /// `arrival`'s test).
+    pub(in crate::integrator::bidir) fn normals(s: &mut Sampler) -> Vec<Vec3> {
         let mut n = vec![Vec3::X, Vec3::NEG_Y, Vec3::Z, Vec3::new(1.0, 1e-4, 0.0).normalize(), Vec3::ONE.normalize()];
         n.extend((0..200).map(|_| uniform_sphere(s.get_2d())));
         n
