@@ -7,7 +7,7 @@
 //! triangles through the wide BVH as through a triangle-by-triangle test.
 
 use glam::Vec3A;
-use wide::{CmpGe, CmpGt, CmpLe, CmpLt, CmpNe, f32x4};
+use wide::{CmpGe, CmpGt, CmpLe, CmpLt, f32x4};
 
 use crate::core::geometry::TriangleGeom;
 
@@ -29,13 +29,17 @@ impl RayLanes {
     }
 }
 
-/// Up to four triangles, one per lane: first vertex and the two edges from it, as in
-/// [`TriangleGeom`]; an unused lane holds a degenerate triangle (zero edges), which no ray hits.
+/// Up to four triangles, one per lane: first vertex, the two edges from it, as in
+/// [`TriangleGeom`], and their cross product (the unnormalised geometric normal, which
+/// [`TriangleGeom::intersect`] computes per test); an unused lane holds a degenerate triangle
+/// (zero edges), which no ray hits.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Triangle4 {
     v0: [f32x4; 3],
     e1: [f32x4; 3],
     e2: [f32x4; 3],
+    /// e1 x e2.
+    n: [f32x4; 3],
     /// The triangles' indices (an unused lane repeats the first).
     pub(super) prim: [u32; 4],
 }
@@ -64,6 +68,7 @@ impl Triangle4 {
             v0: field(&|g| g.v0),
             e1: field(&|g| g.e1),
             e2: field(&|g| g.e2),
+            n: field(&|g| g.e1.cross(g.e2)),
             prim: std::array::from_fn(|k| lane(k).map_or(first, |(i, _)| i)),
         }
     }
@@ -73,25 +78,29 @@ impl Triangle4 {
     #[inline(always)]
     fn hits(&self, ray: &RayLanes, t_max: f32) -> (u32, f32x4, f32x4, f32x4) {
         let zero = f32x4::ZERO;
-        let one = f32x4::ONE;
-        let p = cross(&ray.d, &self.e2);
-        let det = dot(&self.e1, &p);
-        let inv = one / det;
         let s = [ray.o[0] - self.v0[0], ray.o[1] - self.v0[1], ray.o[2] - self.v0[2]];
-        let b1 = dot(&s, &p) * inv;
-        let q = cross(&s, &self.e1);
-        let b2 = dot(&ray.d, &q) * inv;
-        let t = dot(&self.e2, &q) * inv;
-        let ok = det.cmp_ne(zero)
-            & det.is_finite()
+        let r = cross(&s, &ray.d);
+        let det = -dot(&ray.d, &self.n);
+        // det's sign bit, folded into the numerators so that the tests need no division
+        let sign = det & f32x4::splat(-0.0);
+        let abs_det = det ^ sign;
+        let b1 = dot(&self.e2, &r) ^ sign;
+        let b2 = -dot(&self.e1, &r) ^ sign;
+        let t = dot(&s, &self.n) ^ sign;
+        let ok = abs_det.cmp_gt(zero)
+            & abs_det.is_finite()
             & b1.cmp_ge(zero)
-            & b1.cmp_le(one)
+            & b2.cmp_ge(zero)
+            & (b1 + b2).cmp_le(abs_det)
             & t.cmp_gt(zero)
-            & t.cmp_lt(f32x4::splat(t_max));
-        // the scalar test rejects b2 < 0 and b1 + b2 > 1 (a NaN b2 passes there, and is
-        // rejected by its NaN t), so these lanes are removed rather than b2 >= 0 required
-        let out = b2.cmp_lt(zero) | (b1 + b2).cmp_gt(one);
-        (ok.move_mask() as u32 & !(out.move_mask() as u32), t, b1, b2)
+            & t.cmp_lt(abs_det * f32x4::splat(t_max));
+        let mask = ok.move_mask() as u32;
+        if mask == 0 {
+            // no hit: the division is not needed
+            return (0, zero, zero, zero);
+        }
+        let inv = f32x4::ONE / abs_det;
+        (mask, t * inv, b1 * inv, b2 * inv)
     }
 
     /// The nearest hit among the four triangles at t in (0, `t_max`): (lane, t, b1, b2). Ties go
