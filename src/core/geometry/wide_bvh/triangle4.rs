@@ -73,10 +73,11 @@ impl Triangle4 {
         }
     }
 
-    /// The lanes whose triangle the ray hits at t in (0, `t_max`), with t, b1 and b2 per lane
-    /// (meaningful only in those lanes), as a bit mask (bit k = lane k).
+    /// The lanes whose triangle the ray hits at t in (0, `t_max`), as a bit mask (bit k = lane
+    /// k), with |det| and the numerators of t, b1 and b2 per lane (det's sign folded in; each
+    /// divided by |det| is the value: meaningful only in the hit lanes).
     #[inline(always)]
-    fn hits(&self, ray: &RayLanes, t_max: f32) -> (u32, f32x4, f32x4, f32x4) {
+    fn hits(&self, ray: &RayLanes, t_max: f32) -> (u32, f32x4, f32x4, f32x4, f32x4) {
         let zero = f32x4::ZERO;
         let s = [ray.o[0] - self.v0[0], ray.o[1] - self.v0[1], ray.o[2] - self.v0[2]];
         let r = cross(&s, &ray.d);
@@ -94,24 +95,20 @@ impl Triangle4 {
             & (b1 + b2).cmp_le(abs_det)
             & t.cmp_gt(zero)
             & t.cmp_lt(abs_det * f32x4::splat(t_max));
-        let mask = ok.move_mask() as u32;
-        if mask == 0 {
-            // no hit: the division is not needed
-            return (0, zero, zero, zero);
-        }
-        let inv = f32x4::ONE / abs_det;
-        (mask, t * inv, b1 * inv, b2 * inv)
+        (ok.move_mask() as u32, abs_det, t, b1, b2)
     }
 
     /// The nearest hit among the four triangles at t in (0, `t_max`): (lane, t, b1, b2). Ties go
-    /// to the lowest lane.
+    /// to the lowest lane. Only a packet with a hit divides, and only the nearest lane's
+    /// barycentrics are scaled.
     #[inline(always)]
     pub(super) fn nearest(&self, ray: &RayLanes, t_max: f32) -> Option<(usize, f32, f32, f32)> {
-        let (mut mask, t, b1, b2) = self.hits(ray, t_max);
+        let (mut mask, abs_det, t, b1, b2) = self.hits(ray, t_max);
         if mask == 0 {
             return None;
         }
-        let t = t.to_array();
+        let inv = (f32x4::ONE / abs_det).to_array();
+        let t = (t * f32x4::from(inv)).to_array();
         let mut best = mask.trailing_zeros() as usize;
         mask &= mask - 1;
         while mask != 0 {
@@ -121,7 +118,7 @@ impl Triangle4 {
             }
             mask &= mask - 1;
         }
-        Some((best, t[best], b1.to_array()[best], b2.to_array()[best]))
+        Some((best, t[best], b1.to_array()[best] * inv[best], b2.to_array()[best] * inv[best]))
     }
 
     /// True when the ray hits any of the four triangles at t in (0, `t_max`).
