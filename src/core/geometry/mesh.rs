@@ -160,4 +160,35 @@ mod tests {
         // a NaN direction
         assert!(tri.intersect(Vec3A::new(0.2, 0.2, 1.0), Vec3A::splat(f32::NAN), 0.0, f32::INFINITY).is_none());
     }
+
+    /// t against the exact distance to the stored triangle (f64), at scales 1e-4 to 1e8 and at
+    /// every angle of incidence down to grazing: on average within a few f32 roundings, and
+    /// never off by 1% (measured: mean 1.7e-7 to 3.0e-7, worst 2.7e-3 at grazing incidence;
+    /// the earlier form with two cross products gave means of 2.9e-7 to 5.2e-7 on these rays).
+    #[test]
+    fn distances_are_accurate_at_every_scale() {
+        let mut s = Sampler::new(5, 6, 7);
+        let f64v = |a: Vec3A| glam::DVec3::new(a.x as f64, a.y as f64, a.z as f64);
+        for scale in [1e-4f32, 1e-2, 1.0, 1e2, 1e5, 1e8] {
+            let (mut hits, mut worst, mut sum) = (0u32, 0.0f64, 0.0f64);
+            for _ in 0..100_000 {
+                let c = (Vec3::new(s.get_1d(), s.get_1d(), s.get_1d()) * 2.0 - 1.0) * 3.0 * scale
+                    + Vec3::splat(7.0 * scale);
+                let [a, b, e] = [0, 1, 2].map(|_| c + uniform_sphere(s.get_2d()) * scale);
+                let tri = TriangleGeom::new(a, b, e);
+                let o = Vec3A::from(c + uniform_sphere(s.get_2d()) * 3.0 * scale);
+                let d = (Vec3A::from(tri.point(s.get_1d() * 1.2 - 0.1, s.get_1d() * 1.2 - 0.1)) - o).normalize();
+                let Some((t, _, _)) = tri.intersect(o, d, 0.0, f32::INFINITY) else { continue };
+                let n = f64v(tri.e1).cross(f64v(tri.e2));
+                let exact = (f64v(o) - f64v(tri.v0)).dot(n) / -f64v(d).dot(n);
+                let err = ((t as f64 - exact) / exact).abs();
+                hits += 1;
+                worst = worst.max(err);
+                sum += err;
+            }
+            assert!(hits > 30_000, "scale {scale}: {hits} hits");
+            let mean = sum / hits as f64;
+            assert!(mean < 1e-6 && worst < 1e-2, "scale {scale}: mean {mean:e}, worst {worst:e}");
+        }
+    }
 }
