@@ -36,6 +36,7 @@ pub fn concentric_disk(u: Vec2) -> Vec2 {
 
 /// Cosine-weighted direction on the upper hemisphere (density cos(theta) / pi): a uniform disk
 /// point lifted to the hemisphere (Malley's method).
+#[inline(always)]
 pub fn cosine_hemisphere(u: Vec2) -> Vec3 {
     let d = concentric_disk(u);
     let z = (1.0 - d.x * d.x - d.y * d.y).max(0.0).sqrt();

@@ -26,7 +26,7 @@ pub struct Emission {
 
 impl Emission {
     /// Radiance leaving a surface with unit geometric normal `ng` in direction `w`.
-    #[inline]
+    #[inline(always)]
     pub fn radiance(&self, ng: Vec3, w: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
         if !self.two_sided && ng.dot(w) <= 0.0 {
             return SampledSpectrum::zero();
@@ -170,6 +170,7 @@ impl Light {
     }
 
     /// Samples incident light at point `p` (Li, direction, solid-angle pdf).
+    #[inline(always)]
     pub fn sample_li(&self, p: Vec3, u: Vec2, wl: &SampledWavelengths, emissions: &[Emission]) -> Option<LightSample> {
         match self {
             Self::Area { tri, emission, area } => {

@@ -95,6 +95,7 @@ impl SurfaceInteraction {
 
     /// A shadow ray towards a point at distance `dist` in direction `w` (stops just short of it;
     /// `dist` = infinity for distant lights).
+    #[inline(always)]
     pub fn spawn_shadow_ray(&self, w: Vec3, dist: f32) -> Ray {
         let o = crate::core::geometry::offset_origin(self.p, self.p_err, self.ng, w);
         let mut r = Ray::new(o, w);
@@ -390,7 +391,7 @@ impl Scene {
     }
 
     /// Closest surface hit along `ray`.
-    #[inline]
+    #[inline(always)]
     pub fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction> {
         let h = self.accel.intersect(ray)?;
         Some(self.interaction(ray, &h))
@@ -412,11 +413,12 @@ impl Scene {
     }
 
     /// True when the segment of `ray` up to `t_max` is blocked.
-    #[inline]
+    #[inline(always)]
     pub fn occluded(&self, ray: &Ray) -> bool {
         self.accel.occluded(ray)
     }
 
+    #[inline(always)]
     fn interaction(&self, _ray: &Ray, h: &Hit) -> SurfaceInteraction {
         let g = &self.accel.geom[h.prim as usize];
         let info = &self.accel.info[h.prim as usize];
@@ -457,7 +459,7 @@ impl Scene {
     /// The BSDF at a surface point for the path's wavelengths (see [`material_at`](Self::material_at)).
     /// It borrows the scene (tabulated tables), never the temporary textured material: textures
     /// only produce analytic materials, whose BSDFs borrow nothing.
-    #[inline]
+    #[inline(always)]
     pub fn bsdf_at(&self, si: &SurfaceInteraction, wl: &mut SampledWavelengths) -> Bsdf<'_> {
         match self.material_at(si) {
             Cow::Borrowed(m) => m.bsdf_with(wl, self.masking),

@@ -44,7 +44,7 @@ pub fn sample_direct(
 /// samples in the excluded set contribute nothing (docs/architecture.md §7.5: the quasi-specular cone C is
 /// estimated by the continued path instead), except samples of delta lights (point, spot,
 /// directional), which a continued path can never hit and which are therefore always counted.
-#[inline]
+#[inline(always)]
 pub fn sample_direct_outside(
     scene: &Scene,
     si: &SurfaceInteraction,
@@ -86,7 +86,7 @@ pub fn sample_direct_outside(
 
 /// MIS-weighted emission of the surface at `si` towards `wo`, reached from `prev`
 /// (the BSDF-sampling half of [`sample_direct`]). Zero for non-emitters.
-#[inline]
+#[inline(always)]
 pub fn emitted_at_hit(
     scene: &Scene,
     si: &SurfaceInteraction,

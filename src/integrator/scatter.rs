@@ -28,7 +28,7 @@ impl Scattered {
 /// scattered, a zero pdf or value, or a direction whose side of the shading frame disagrees with
 /// its side of the geometric surface (a shading-normal leak, which would cross the surface
 /// without refraction).
-#[inline]
+#[inline(always)]
 pub fn scatter(
     bsdf: &Bsdf,
     si: &SurfaceInteraction,

@@ -137,7 +137,7 @@ impl Bsdf<'_> {
 
     /// (f(wo, wi), pdf(wo, wi)) together, for next-event estimation with MIS: the analytic
     /// models share their half vector, Fresnel and microfacet terms between the two.
-    #[inline]
+    #[inline(always)]
     pub fn f_pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> (SampledSpectrum, f32) {
         match self {
             Bsdf::Black => (SampledSpectrum::zero(), 0.0),
@@ -150,6 +150,7 @@ impl Bsdf<'_> {
 
     /// Samples wi given wo and three uniform numbers in [0, 1): `uc` picks the lobe, `u` the
     /// direction. None when nothing is scattered (black side, absorbed, below the horizon).
+    #[inline(always)]
     pub fn sample_f(&self, wo: Vec3, uc: f32, u: glam::Vec2, mode: TransportMode) -> Option<BsdfSample> {
         match self {
             Bsdf::Black => None,

@@ -295,7 +295,7 @@ impl Spectrum {
     }
 
     /// Values at the path's wavelengths (the variant is matched once for all of them).
-    #[inline]
+    #[inline(always)]
     pub fn sample(&self, wl: &SampledWavelengths) -> SampledSpectrum {
         match self {
             Self::Constant(v) => SampledSpectrum::splat(*v),
