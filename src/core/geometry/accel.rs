@@ -69,7 +69,7 @@ impl Accel {
     }
 
     /// Closest hit along `ray` within (0, ray.t_max).
-    #[inline]
+    #[inline(always)]
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
         // -0.0 components become +0.0, as before the wide BVH (the triangle test is unaffected;
         // the slab test treats both zeros alike)
@@ -79,7 +79,7 @@ impl Accel {
     }
 
     /// True when something blocks the segment from `ray.origin` up to (excluding) `ray.t_max`.
-    #[inline]
+    #[inline(always)]
     pub fn occluded(&self, ray: &Ray) -> bool {
         let d = Vec3A::from(ray.dir) + Vec3A::ZERO;
         self.bvh.occluded(Vec3A::from(ray.origin), d, ray.t_max)

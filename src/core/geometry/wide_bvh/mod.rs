@@ -109,7 +109,7 @@ pub(crate) struct WideBvh {
 
 impl WideBvh {
     /// The nearest hit of o + t d (unit or not) at t in (0, `t_max`): (triangle index, t, b1, b2).
-    #[inline]
+    #[inline(always)]
     pub(crate) fn intersect(&self, o: Vec3A, d: Vec3A, t_max: f32) -> Option<(u32, f32, f32, f32)> {
         if self.root == EMPTY {
             return None;
@@ -124,7 +124,7 @@ impl WideBvh {
     }
 
     /// True when o + t d hits a triangle at t in (0, `t_max`).
-    #[inline]
+    #[inline(always)]
     pub(crate) fn occluded(&self, o: Vec3A, d: Vec3A, t_max: f32) -> bool {
         if self.root == EMPTY {
             return false;
