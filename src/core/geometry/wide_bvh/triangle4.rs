@@ -107,8 +107,9 @@ impl Triangle4 {
         if mask == 0 {
             return None;
         }
-        let inv = (f32x4::ONE / abs_det).to_array();
-        let t = (t * f32x4::from(inv)).to_array();
+        let inv = f32x4::ONE / abs_det;
+        let t = (t * inv).to_array();
+        let inv = inv.to_array();
         let mut best = mask.trailing_zeros() as usize;
         mask &= mask - 1;
         while mask != 0 {
