@@ -121,6 +121,7 @@ impl Material {
     }
 
     /// [`bsdf`](Self::bsdf) with the microfacet masking-shadowing form `masking`.
+    #[inline(always)]
     pub fn bsdf_with(&self, wl: &mut SampledWavelengths, masking: Masking) -> Bsdf<'_> {
         match self {
             Material::Diffuse { reflectance, two_sided } => {

@@ -53,6 +53,7 @@ impl ConductorBsdf {
 
     /// f (when `want_f`, else 0) and pdf for wo in the upper hemisphere (shared by `f`, `pdf` and
     /// `sample_f`, so the three agree exactly; `pdf` skips the Fresnel term).
+    #[inline(always)]
     fn eval_upper(&self, wo: Vec3, wi: Vec3, want_f: bool) -> (SampledSpectrum, f32) {
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return (SampledSpectrum::zero(), 0.0);
@@ -104,6 +105,7 @@ impl ConductorBsdf {
 
     /// Mirror: wi = (-wo.x, -wo.y, wo.z), f = F(cos) / cos, pdf = 1. Rough: a visible normal
     /// wm ~ D_wo, wi = reflect(wo, wm), pdf = D_wo(wm) / (4 |wo . wm|) (reflection Jacobian).
+    #[inline(always)]
     pub fn sample_f(&self, wo: Vec3, u: Vec2, _mode: TransportMode) -> Option<BsdfSample> {
         let fl = self.orientation(wo)?;
         let wo_u = flip(wo, fl);

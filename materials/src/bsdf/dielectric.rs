@@ -42,6 +42,7 @@ impl DielectricBsdf {
     /// Radiance mode; pdf = D_wo(wm) |wi.wm| eta'^2 / |h|^2 * (1 - F).
     /// F = fr_dielectric(wo.wm, eta). Back-facing microfacets (wm on the wrong side of wo or wi)
     /// contribute nothing.
+    #[inline(always)]
     fn eval_rough(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> (f32, f32) {
         let (co, ci) = (wo.z, wi.z);
         if co == 0.0 || ci == 0.0 {
@@ -115,6 +116,7 @@ impl DielectricBsdf {
     /// R and T = 1 - R (T / eta'^2 in Radiance mode), so f = weight / |cos i|, pdf = R or T.
     /// Rough: wm from the visible normals of wo, then reflection with probability F(wo.wm) or
     /// refraction through wm; f and pdf from the rough model.
+    #[inline(always)]
     pub fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
         if wo.z == 0.0 {
             return None;

@@ -46,7 +46,7 @@ impl DiffuseBsdf {
     }
 
     /// [`f`](Self::f) and [`pdf`](Self::pdf) together.
-    #[inline]
+    #[inline(always)]
     pub fn f_pdf(&self, wo: Vec3, wi: Vec3) -> (SampledSpectrum, f32) {
         match self.side(wo) {
             Some(s) if wi.z * s > 0.0 && !self.r.is_black() => (self.r * FRAC_1_PI, wi.z.abs() * FRAC_1_PI),
@@ -55,6 +55,7 @@ impl DiffuseBsdf {
     }
 
     /// Cosine-weighted sample on wo's side; the weight f |cos| / pdf is exactly R.
+    #[inline(always)]
     pub fn sample_f(&self, wo: Vec3, u: Vec2, _mode: TransportMode) -> Option<BsdfSample> {
         let s = self.side(wo)?;
         if self.r.is_black() {

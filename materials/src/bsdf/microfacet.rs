@@ -154,6 +154,7 @@ impl TrowbridgeReitz {
     /// (Heitz 2018): stretch `w` to the configuration with alpha = 1 (flipped to the upper
     /// hemisphere), sample the projected area of the visible half of the unit hemisphere
     /// (a disk whose lower half is squashed by (1 + cos)/2), lift to the hemisphere and unstretch.
+    #[inline(always)]
     pub fn sample_wm(&self, w: Vec3, u: Vec2) -> Vec3 {
         let a = self.alpha;
         let mut wh = Vec3::new(a * w.x, a * w.y, w.z).normalize_or(Vec3::Z);

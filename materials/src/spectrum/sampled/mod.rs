@@ -219,6 +219,7 @@ impl SampledWavelengths {
     /// pbrt-v4 (sec. 4.6.5), p(lambda) ~ 1 / cosh^2(0.0072 (lambda - 538)), restricted to
     /// [LAMBDA_MIN, LAMBDA_MAX] (a tabulated inverse CDF, see `visible`). The rotations are taken in the CDF domain (u + i/4 mod 1), so the
     /// four wavelengths are stratified in the importance measure and each has the same marginal pdf.
+    #[inline(always)]
     pub fn sample_visible(u: f32) -> Self {
         // i / N exactly, so each lane is u + i / N as a scalar loop would compute it
         let up = Vec4::splat(u) + Vec4::from_array(std::array::from_fn(|i| i as f32 / N_SPECTRUM_SAMPLES as f32));
