@@ -83,9 +83,13 @@ pub fn power_heuristic(pdf_a: f32, pdf_b: f32) -> f32 {
 }
 
 /// A discrete distribution over items with non-negative weights, sampled by inverting its CDF.
+/// The probabilities are divided out once when it is built, so that sampling and
+/// [`pmf`](Self::pmf) (once per light sample and per emitter hit of a path) never divide.
 #[derive(Clone, Debug, Default)]
 pub struct Distribution1D {
     cdf: Vec<f64>,
+    /// (cdf[i] - cdf[i - 1]) / total per item; all 0 when the total is 0.
+    pmf: Vec<f32>,
     total: f64,
 }
 
@@ -100,7 +104,16 @@ impl Distribution1D {
             }
             cdf.push(acc);
         }
-        Self { cdf, total: acc }
+        let mut prev = 0.0;
+        let pmf = cdf
+            .iter()
+            .map(|&c| {
+                let p = if acc > 0.0 { ((c - prev) / acc) as f32 } else { 0.0 };
+                prev = c;
+                p
+            })
+            .collect();
+        Self { cdf, pmf, total: acc }
     }
 
     /// Number of items.
@@ -139,12 +152,9 @@ impl Distribution1D {
     }
 
     /// Probability of item `i`.
+    #[inline]
     pub fn pmf(&self, i: usize) -> f32 {
-        if self.total <= 0.0 || i >= self.cdf.len() {
-            return 0.0;
-        }
-        let prev = if i == 0 { 0.0 } else { self.cdf[i - 1] };
-        ((self.cdf[i] - prev) / self.total) as f32
+        self.pmf.get(i).copied().unwrap_or(0.0)
     }
 }
 
@@ -165,6 +175,20 @@ mod tests {
         assert_eq!(counts[1], 0);
         assert!((counts[2] as f32 / 4000.0 - 0.75).abs() < 1e-3);
         assert!(Distribution1D::new(&[0.0, f64::NAN]).sample(0.5).is_none());
+    }
+
+    #[test]
+    fn pmf_is_each_weight_over_the_total() {
+        let w = [0.3, 0.0, 1.7, f64::NAN, 2.0e-9, 5.0];
+        let d = Distribution1D::new(&w);
+        let total: f64 = w.iter().filter(|v| v.is_finite()).sum();
+        for (i, &wi) in w.iter().enumerate() {
+            let expect = if wi.is_finite() { (wi / total) as f32 } else { 0.0 };
+            assert!((d.pmf(i) - expect).abs() <= expect * 1e-6, "item {i}: {} vs {expect}", d.pmf(i));
+        }
+        assert_eq!(d.pmf(w.len()), 0.0);
+        let empty = Distribution1D::new(&[0.0, -1.0]);
+        assert_eq!((empty.pmf(0), empty.pmf(1)), (0.0, 0.0));
     }
 
     #[test]
