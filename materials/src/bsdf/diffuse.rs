@@ -21,8 +21,9 @@ pub struct DiffuseBsdf {
 
 impl DiffuseBsdf {
     /// A Lambertian BSDF; the albedo is clamped to [0, 1] (NaN -> 0).
+    #[inline(always)]
     pub fn new(r: SampledSpectrum, two_sided: bool) -> Self {
-        Self { r: r.map(|v| if v.is_finite() { v.clamp(0.0, 1.0) } else { 0.0 }), two_sided }
+        Self { r: r.clamp_unit(), two_sided }
     }
 
     /// +1 when wo is above the surface, -1 below for a two-sided surface, None when black.

@@ -95,7 +95,7 @@ impl SampledFresnel {
     /// Reflectance F(cos theta) at each wavelength, in [0, 1].
     pub fn eval(&self, cos_theta: f32) -> SampledSpectrum {
         match self {
-            Self::Constant(r) => r.map(|v| if v.is_finite() { v.clamp(0.0, 1.0) } else { 0.0 }),
+            Self::Constant(r) => r.clamp_unit(),
             Self::Complex { eta, k } => SampledSpectrum(std::array::from_fn::<f32, N_SPECTRUM_SAMPLES, _>(|i| {
                 fr_complex(cos_theta, eta[i], k[i])
             })),

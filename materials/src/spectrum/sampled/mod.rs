@@ -104,6 +104,16 @@ impl SampledSpectrum {
     pub fn map(self, f: impl Fn(f32) -> f32) -> Self {
         Self(self.0.map(f))
     }
+    /// Each value clamped to [0, 1], with NaN and infinities of either sign replaced by 0 (a
+    /// reflectance made safe; the same as `v.clamp(0.0, 1.0)` for a finite v). One vector
+    /// operation, so that the four values are written as one store.
+    #[inline(always)]
+    pub fn clamp_unit(self) -> Self {
+        let v = Vec4::from_array(self.0);
+        // ZERO.max(v) keeps v where v >= 0 (-0.0 included, as f32::clamp does), ONE.min(..) keeps it where <= 1
+        let clamped = Vec4::ONE.min(Vec4::ZERO.max(v));
+        Self(Vec4::select(v.is_finite_mask(), clamped, Vec4::ZERO).to_array())
+    }
     /// Division that yields 0 where the divisor is 0 (pbrt's `SafeDiv`).
     #[inline]
     pub fn safe_div(self, d: Self) -> Self {
@@ -347,6 +357,21 @@ mod visible;
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn clamp_unit_is_the_scalar_clamp_with_non_finite_values_zero() {
+        let cases = [
+            [0.25, -0.5, 1.5, 1.0],
+            [0.0, -0.0, f32::NAN, f32::INFINITY],
+            [f32::NEG_INFINITY, f32::MIN_POSITIVE, 1.0 + f32::EPSILON, -f32::MIN_POSITIVE],
+            [f32::MAX, -f32::MAX, 0.999_999_9, 1e-30],
+        ];
+        for c in cases {
+            let got = SampledSpectrum(c).clamp_unit().0;
+            let want = c.map(|v| if v.is_finite() { v.clamp(0.0, 1.0) } else { 0.0 });
+            assert_eq!(got.map(f32::to_bits), want.map(f32::to_bits), "{c:?}");
+        }
+    }
 
     #[test]
     fn uniform_wavelengths_are_rotations_inside_range() {
