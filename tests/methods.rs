@@ -7,8 +7,8 @@ mod common;
 use std::path::Path;
 
 use common::{
-    ALL_QUANTITIES, assert_converges_from, bidir_ov, glossy_floor_scene, mean, pt_ov, rel_mse, render_file, shipped,
-    write_scene,
+    ALL_QUANTITIES, assert_converges_from, bidir_ov, glossy_floor_scene, mean, mean_rel_error, pt_ov, render_file,
+    shipped, write_scene,
 };
 use quasar::render::job::{JobOutput, JobOverrides};
 
@@ -20,27 +20,56 @@ fn method_ov(w: u32, h: u32, method: &str, cone: Option<f32>, iterations: u32) -
     }
 }
 
-/// Renders every method/cone combination at 16 and 256 iterations and checks that relMSE against
-/// the `pt` reference falls and that the 256-iteration image passes the block z-test against it:
-/// the beauty, emission and direct layers from 4-pixel blocks, the photon-gathered indirect and
-/// caustic layers from 16-pixel blocks (their sparse caustics through the plate's thin side
-/// faces and on the narrow floor are heavy-tailed in smaller blocks at this budget); a method
-/// marked `coarse` (vismap gathering on a narrow lobe) is tested from 16-pixel blocks only.
-fn check_methods(path: &Path, reference: &JobOutput, w: u32, h: u32, methods: &[(&str, Option<f32>, bool)]) {
+/// How a method is tested by [`check_methods`]: its iterations, and the side of the finest blocks
+/// its beauty is z-tested from.
+#[derive(Clone, Copy)]
+struct Budget {
+    iterations: u32,
+    base: usize,
+}
+
+/// The budget of a method that passes narrow lobes through or gathers behind them.
+const PASSES_NARROW_LOBES: Budget = Budget { iterations: 256, base: 4 };
+
+/// The budget of `adaptive` on a scene with a narrow lobe. Where a pixel straddles a diffuse and
+/// a narrow surface (the glass plate's edges, the glossy floor's far edge), its depth is the
+/// diffuse side's 0 and the paths that land on the narrow side gather on the lobe: photons
+/// arriving within it are rare, so a render that happens to catch few of them is low there and
+/// claims a small standard error. 16 renders (docs/validation.md, "Tests that hold for any
+/// seed") put single 16-pixel blocks up to 4.9 of their claimed standard errors from the
+/// renders' mean (more iterations make it worse: the claimed errors shrink faster than the tail
+/// fills in), 32-pixel blocks within 2.0, as Gaussian errors do.
+const ADAPTIVE_ON_NARROW_LOBES: Budget = Budget { iterations: 256, base: 32 };
+
+/// The budget of `vismap` on a large narrow surface, which it gathers on: 16 renders put single
+/// 4-, 8- and 16-pixel blocks up to 24, 4.8 and 6.1 of their claimed standard errors from the
+/// renders' mean at 256 iterations; at 1024 iterations 16-pixel blocks stay within 2.6.
+const VISMAP_ON_NARROW_LOBES: Budget = Budget { iterations: 1024, base: 16 };
+
+/// Renders every method/cone combination at 16 iterations and at its budget and checks that
+/// the mean relative error against the `pt` reference falls (an L1 measure: one firefly in the
+/// longer render, as `quasi` with a 1-degree cone inside the floor's wider lobe makes, raised
+/// relMSE from 0.033 to 0.097 for one seed of 16) and that the longer image passes the block z-test
+/// against it: the beauty from the budget's blocks, the emission and direct layers (camera paths
+/// and light samples only) from 4-pixel blocks, the photon-gathered indirect and caustic layers
+/// from the budget's blocks but at least 16 pixels (their sparse caustics through the plate's
+/// thin side faces and on the narrow floor are heavy-tailed in smaller blocks).
+fn check_methods(path: &Path, reference: &JobOutput, w: u32, h: u32, methods: &[(&str, Option<f32>, Budget)]) {
     let r = reference.image.channel("XYZ.Y").unwrap();
-    for &(method, cone, coarse) in methods {
+    for &(method, cone, budget) in methods {
         let few = render_file(path, &method_ov(w, h, method, cone, 16)).image;
-        let e_few = rel_mse(few.channel("XYZ.Y").unwrap(), r);
-        let img = render_file(path, &method_ov(w, h, method, cone, 256));
+        let e_few = mean_rel_error(few.channel("XYZ.Y").unwrap(), r);
+        let img = render_file(path, &method_ov(w, h, method, cone, budget.iterations));
         let y = img.image.channel("XYZ.Y").unwrap();
-        let e = rel_mse(y, r);
-        eprintln!("{}: {method} cone {cone:?}: relMSE {e_few:.5} -> {e:.5}", path.display());
+        let e = mean_rel_error(y, r);
+        eprintln!("{}: {method} cone {cone:?}: mean relative error {e_few:.5} -> {e:.5}", path.display());
         assert!(y.iter().all(|v| v.is_finite()));
-        assert!(e < e_few, "{method} cone {cone:?}: relMSE {e_few} -> {e}");
+        assert!(e < e_few, "{method} cone {cone:?}: mean relative error {e_few} -> {e}");
         let label = format!("{method} cone {cone:?}");
-        let (gathered, camera) = (&ALL_QUANTITIES[3..], &ALL_QUANTITIES[..3]);
-        assert_converges_from(if coarse { 16 } else { 4 }, &label, &img, reference, camera);
-        assert_converges_from(16, &label, &img, reference, gathered);
+        let (beauty, camera, gathered) = (&ALL_QUANTITIES[..1], &ALL_QUANTITIES[1..3], &ALL_QUANTITIES[3..]);
+        assert_converges_from(budget.base, &label, &img, reference, beauty);
+        assert_converges_from(4, &label, &img, reference, camera);
+        assert_converges_from(budget.base.max(16), &label, &img, reference, gathered);
     }
 }
 
@@ -56,13 +85,13 @@ fn methods_converge_to_pt_on_the_glass_plate() {
         40,
         30,
         &[
-            ("adaptive", None, false),
-            ("quasi", Some(1.0), false),
-            ("quasi", Some(10.0), false),
-            ("quasi", Some(30.0), false),
-            ("adaptive+quasi", Some(1.0), false),
-            ("adaptive+quasi", Some(10.0), false),
-            ("adaptive+quasi", Some(30.0), false),
+            ("adaptive", None, ADAPTIVE_ON_NARROW_LOBES),
+            ("quasi", Some(1.0), PASSES_NARROW_LOBES),
+            ("quasi", Some(10.0), PASSES_NARROW_LOBES),
+            ("quasi", Some(30.0), PASSES_NARROW_LOBES),
+            ("adaptive+quasi", Some(1.0), PASSES_NARROW_LOBES),
+            ("adaptive+quasi", Some(10.0), PASSES_NARROW_LOBES),
+            ("adaptive+quasi", Some(30.0), PASSES_NARROW_LOBES),
         ],
     );
 }
@@ -79,14 +108,14 @@ fn methods_converge_to_pt_on_a_narrow_glossy_scene() {
         40,
         30,
         &[
-            ("vismap", None, true),
-            ("adaptive", None, false),
-            ("quasi", Some(1.0), false),
-            ("quasi", Some(10.0), false),
-            ("quasi", Some(30.0), false),
-            ("adaptive+quasi", Some(1.0), false),
-            ("adaptive+quasi", Some(10.0), false),
-            ("adaptive+quasi", Some(30.0), false),
+            ("vismap", None, VISMAP_ON_NARROW_LOBES),
+            ("adaptive", None, ADAPTIVE_ON_NARROW_LOBES),
+            ("quasi", Some(1.0), PASSES_NARROW_LOBES),
+            ("quasi", Some(10.0), PASSES_NARROW_LOBES),
+            ("quasi", Some(30.0), PASSES_NARROW_LOBES),
+            ("adaptive+quasi", Some(1.0), PASSES_NARROW_LOBES),
+            ("adaptive+quasi", Some(10.0), PASSES_NARROW_LOBES),
+            ("adaptive+quasi", Some(30.0), PASSES_NARROW_LOBES),
         ],
     );
 }
@@ -122,9 +151,9 @@ fn trace_depth_on(path: &Path, method: &str, material: &str) -> f64 {
 
 /// The adaptive depth moves gathering off the narrow top face of the glass plate to the bottom face
 /// (depth 1, the paper's "second diffuse scattering") and keeps it at the first non-specular
-/// vertex (depth 0) behind the smooth end faces and on the substrate. (A few percent of the top
-/// face's pilot paths are reflected off it and escape; their only candidate is depth 0, so early
-/// iterations' modes are occasionally 0.) With the quasi-specular cone the narrow top-face event
+/// vertex (depth 0) behind the smooth end faces and on the substrate. (A top-face pilot path that
+/// is reflected off it and escapes makes depth 1 its candidate too, as one that enters the plate
+/// does.) With the quasi-specular cone the narrow top-face event
 /// is quasi-specular and does not count as depth: the same bottom-face vertex is depth 0.
 #[test]
 fn trace_depth_is_one_on_the_narrow_top_face_and_zero_on_the_sides() {
@@ -139,6 +168,25 @@ fn trace_depth_is_one_on_the_narrow_top_face_and_zero_on_the_sides() {
     let top = trace_depth_on(&path, "adaptive+quasi", "glass_top");
     eprintln!("adaptive+quasi: top {top:.3}");
     assert!(top < 0.1, "adaptive+quasi: top face {top}");
+}
+
+/// A narrow floor under the open sky: every pilot path is reflected off it and leaves the scene,
+/// which makes depth 1 its candidate (docs/architecture.md §7.5), so `adaptive` does not gather on
+/// the narrow lobe: its paths find the sky by their BSDF samples. (Before the escape rule the
+/// floor's only candidate was depth 0: a mean depth of 0.)
+#[test]
+fn adaptive_does_not_gather_on_a_narrow_floor_whose_reflections_escape() {
+    let scene = write_scene(
+        "[camera]\nposition = [0, 1, 3]\ntarget = [0, 0, 0]\nfov_deg = 30\n\
+         [materials.floor]\ntype = \"conductor\"\nfresnel = 0.9\nalpha = 0.03\n\
+         [[shape]]\ntype = \"quad\"\ncenter = [0, 0, 0]\nsize = [20, 20]\nnormal = [0, 1, 0]\nmaterial = \"floor\"\n\
+         [[light]]\ntype = \"environment\"\nscale = 1.0\n",
+        &[],
+    );
+    let depth = trace_depth_on(&scene.path, "adaptive", "floor");
+    // a pilot whose BSDF sample fails (below the horizon at grazing angles) still leaves only
+    // depth 0, which the first iteration, with one pilot, may use
+    assert!(depth > 0.99, "mean trace depth on the floor {depth}");
 }
 
 /// `auto` renders the diffuse Cornell box with pt and the narrow glass plate with adaptive+quasi.

@@ -32,6 +32,13 @@ pub fn rel_mse(a: &[f32], r: &[f32]) -> f64 {
         / n as f64
 }
 
+/// Mean relative error of `a` against `r` (see [`LayerError::mean_rel_error`]): an L1 measure, which
+/// a single bright outlier pixel moves far less than relMSE.
+pub fn mean_rel_error(a: &[f32], r: &[f32]) -> f64 {
+    let n = a.len().min(r.len()).max(1);
+    a.iter().zip(r).map(|(&a, &r)| (a as f64 - r as f64).abs() / ((r as f64).abs() + REL_EPS)).sum::<f64>() / n as f64
+}
+
 /// The layer of a channel name: the part before the last '.', or "" for bare beauty channels.
 fn layer_of(name: &str) -> &str {
     name.rsplit_once('.').map_or("", |(l, _)| l)
@@ -193,5 +200,10 @@ mod tests {
         let err = compare(&r, &r, Some("caustic")).unwrap_err();
         assert!(err.contains("the layers they share: XYZ, beauty, direct"), "{err}");
         assert!(compare(&image(&[1.0]), &r, None).is_err());
+        // the slice forms agree with the layer's
+        let (a, r) = ([1.0f32, 3.0, 0.0, 2.0], [1.0f32, 2.0, 0.0, 4.0]);
+        assert!((rel_mse(&a, &r) - d.rel_mse).abs() < 1e-12);
+        assert!((mean_rel_error(&a, &r) - d.mean_rel_error).abs() < 1e-12);
+        assert!((d.mean_rel_error - (1.0 / (2.0 + REL_EPS) + 2.0 / (4.0 + REL_EPS)) / 4.0).abs() < 1e-12);
     }
 }

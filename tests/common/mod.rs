@@ -38,6 +38,13 @@ pub fn rel_mse(a: &[f32], r: &[f32]) -> f64 {
     quasar::tools::compare::rel_mse(a, r)
 }
 
+/// Mean relative error of `a` against reference `r`: [`quasar::tools::compare::mean_rel_error`], for
+/// images of the same size.
+pub fn mean_rel_error(a: &[f32], r: &[f32]) -> f64 {
+    assert_eq!(a.len(), r.len());
+    quasar::tools::compare::mean_rel_error(a, r)
+}
+
 /// Mean of a slice.
 pub fn mean(v: &[f32]) -> f64 {
     v.iter().map(|&x| x as f64).sum::<f64>() / v.len() as f64

@@ -220,12 +220,21 @@ pub fn trace_camera_path<'s>(
     CameraPathResult { radiance: out, points: (points.len() - first_point) as u32, wl }
 }
 
+/// The non-uniformity a pilot path gives the depth at which it leaves the scene: that of a
+/// Lambertian vertex, the smallest a surface has, so a diffuse vertex before it (kappa 1, the
+/// smaller depth) still wins the tie.
+pub const ESCAPED_KAPPA: f32 = 1.0;
+
 /// The gather depth a path of this pixel would choose for itself (docs/architecture.md §7.5): traced by BSDF
 /// sampling alone (no light sampling), it returns argmin over depths j of kappa(x_j), the
 /// non-uniformity of the first non-specular vertex at depth j (ties: the smaller depth), over at
 /// most `max_depth` + 1 depths; None when the path meets no non-specular vertex. With a cone, a
 /// vertex whose sample is quasi-specular, or that the rule passes through (a narrow lobe), is
-/// not a candidate (its lobe is traced through), like specular vertices.
+/// not a candidate (its lobe is traced through), like specular vertices. A path that leaves the
+/// scene after a non-specular vertex makes the next depth a candidate of kappa 1
+/// ([`ESCAPED_KAPPA`]): a camera path gathering there meets only the environment (emission found
+/// by the BSDF sample, MIS-weighted against the light sample, no density estimate), so a narrow
+/// vertex whose reflections escape is not chosen to gather on.
 pub fn pilot_gather_depth(
     scene: &Scene,
     mut ray: Ray,
@@ -238,7 +247,17 @@ pub fn pilot_gather_depth(
     let mut depth = 0u32;
     let mut last_depth_seen = None;
     let mut specular_events = 0u32;
-    while let Some(si) = scene.intersect(&ray) {
+    loop {
+        let Some(si) = scene.intersect(&ray) else {
+            // left the scene: the next depth meets only the environment
+            if last_depth_seen.is_some_and(|d| d < depth)
+                && depth <= max_depth
+                && best.is_none_or(|(k, _)| ESCAPED_KAPPA < k)
+            {
+                best = Some((ESCAPED_KAPPA, depth));
+            }
+            break;
+        };
         let bsdf = scene.bsdf_at(&si, &mut wl);
         let frame = si.frame();
         let wo_local = frame.to_local(-ray.dir);
