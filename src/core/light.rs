@@ -7,10 +7,11 @@ use glam::{Vec2, Vec3};
 use quasar_materials::Frame;
 use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 
+use crate::core::alias_table::AliasTable;
 use crate::core::env_map::EnvMap;
 use crate::core::geometry::TriangleGeom;
 use crate::core::luminaire::Luminaire;
-use crate::core::sampling::{self, Distribution1D};
+use crate::core::sampling;
 
 /// Spectral emission shared by the triangles of one emissive mesh: L = scale * spectrum.
 #[derive(Clone, Debug)]
@@ -402,23 +403,26 @@ fn disk_origin(center: Vec3, r: f32, dir: Vec3, u: Vec2) -> Vec3 {
     center + r * (f.from_local(Vec3::new(d.x, d.y, 0.0)) - dir)
 }
 
-/// Chooses lights with probability proportional to [`Light::power`].
+/// Chooses lights with probability proportional to [`Light::power`], in constant time per
+/// choice (an [`AliasTable`], as pbrt-v4's power light sampler), however many emissive
+/// triangles a scene has.
 #[derive(Clone, Debug, Default)]
 pub struct LightSampler {
-    dist: Distribution1D,
+    dist: AliasTable,
 }
 
 impl LightSampler {
     /// Builds the selection distribution.
     pub fn new(lights: &[Light], emissions: &[Emission]) -> Self {
         let w: Vec<f64> = lights.iter().map(|l| l.power(emissions)).collect();
-        Self { dist: Distribution1D::new(&w) }
+        Self { dist: AliasTable::new(&w) }
     }
 
-    /// (light index, probability), or None without lights.
+    /// (light index, probability) for a uniform 64-bit integer `r` ([`Sampler::get_u64`](crate::core::sampling::Sampler::get_u64)),
+    /// or None without lights.
     #[inline]
-    pub fn sample(&self, u: f32) -> Option<(usize, f32)> {
-        self.dist.sample(u)
+    pub fn sample(&self, r: u64) -> Option<(usize, f32)> {
+        self.dist.sample(r)
     }
 
     /// Probability of choosing light `i`.
@@ -453,7 +457,7 @@ mod tests {
         let mut e = 0.0f64;
         let mut s = crate::core::sampling::Sampler::new(7, 0, 0);
         for _ in 0..n {
-            let (i, pmf) = sampler.sample(s.get_1d()).unwrap();
+            let (i, pmf) = sampler.sample(s.get_u64()).unwrap();
             if let Some(ls) = lights[i].sample_li(Vec3::ZERO, s.get_2d(), &wl, &em) {
                 e += (ls.li[0] * ls.wi.y.max(0.0) / (ls.pdf * pmf)) as f64;
             }

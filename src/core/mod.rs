@@ -2,6 +2,7 @@
 //! textures, and the random numbers and warps every integrator samples with. Depends on nothing
 //! else of the crate.
 
+pub mod alias_table;
 pub mod bytes;
 pub mod camera;
 pub mod env_map;

@@ -32,6 +32,13 @@ impl Sampler {
         (self.rng.next_u32() >> 8) as f32 * (1.0 / 16_777_216.0)
     }
 
+    /// A uniform 64-bit integer (two steps of the stream), for choices among more items than a
+    /// 24-bit float resolves evenly ([`AliasTable::sample`](crate::core::alias_table::AliasTable::sample)).
+    #[inline]
+    pub fn get_u64(&mut self) -> u64 {
+        ((self.rng.next_u32() as u64) << 32) | self.rng.next_u32() as u64
+    }
+
     /// Two uniforms in [0, 1).
     #[inline]
     pub fn get_2d(&mut self) -> Vec2 {

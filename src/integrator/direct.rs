@@ -54,7 +54,7 @@ pub fn sample_direct_outside(
     sampler: &mut Sampler,
     excluded: impl Fn(Vec3) -> bool,
 ) -> SampledSpectrum {
-    let u_light = sampler.get_1d();
+    let u_light = sampler.get_u64();
     let u_point = sampler.get_2d();
     let Some((li_index, p_select)) = scene.light_sampler.sample(u_light) else {
         return SampledSpectrum::zero();

@@ -203,7 +203,7 @@ fn trace_photon(
     pipeline: &mut LookupPipeline,
     gatherer: &mut impl Gatherer,
 ) -> u64 {
-    let Some((light_index, p_select)) = scene.light_sampler.sample(sampler.get_1d()) else { return 0 };
+    let Some((light_index, p_select)) = scene.light_sampler.sample(sampler.get_u64()) else { return 0 };
     let u_pos = sampler.get_2d();
     let u_dir = sampler.get_2d();
     let mut wl = *wl_iteration;
