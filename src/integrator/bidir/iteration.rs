@@ -300,7 +300,7 @@ impl Iteration {
             self.n_photons,
             self.photon_seed,
             self.k,
-            base_rule.cone_cos,
+            *base_rule,
             self.record,
             photons,
         );
@@ -445,7 +445,8 @@ mod tests {
         let desc = parse_toml_scene(&text, &path, &ImportOptions::default()).unwrap();
         let scene = Scene::compile(&desc).unwrap();
         let camera = Camera::new(&desc.camera, 40, 30).unwrap();
-        let rule = GatherRule { depth: 0, cone_cos: Some(10f32.to_radians().cos()), max_specular: 16 };
+        let rule =
+            GatherRule { depth: 0, cone_cos: Some(10f32.to_radians().cos()), max_specular: 16, pass_narrow: false };
         let depths = vec![Some(0); 40 * 30];
         let gather = |record| {
             let it = Iteration {

@@ -14,7 +14,7 @@ use super::iteration::{
     Iteration, IterationResult, PhaseSeconds, iteration_wavelength_u, radius_pilot, radius2_factor,
 };
 use super::photon_pass::PhotonRecord;
-use super::settings::VismapSettings;
+use super::settings::{GatherDepth, VismapSettings};
 use super::visibility_point::{GatherRule, VisibilityPoint};
 use crate::core::bytes::{ByteReader, ByteWriter};
 use crate::core::camera::Camera;
@@ -70,7 +70,12 @@ impl<'s> Bidirectional<'s> {
         Self {
             scene,
             camera,
-            rule: GatherRule { depth: 0, cone_cos, max_specular: settings.max_specular },
+            rule: GatherRule {
+                depth: 0,
+                cone_cos,
+                max_specular: settings.max_specular,
+                pass_narrow: matches!(settings.depth, GatherDepth::Adaptive { paper: false, .. }),
+            },
             n_photons: settings.photons(pixels as u64),
             settings,
             seed,

@@ -15,7 +15,7 @@ use super::grid::VisibilityGrid;
 use super::lookup_pipeline::LookupPipeline;
 use super::quasi_cone::QuasiCone;
 use super::ranges::ByRange;
-use super::visibility_point::VisibilityPoint;
+use super::visibility_point::{GatherRule, VisibilityPoint};
 use crate::core::geometry::Ray;
 use crate::core::sampling::Sampler;
 use crate::core::scene::Scene;
@@ -102,10 +102,10 @@ thread_local! {
 
 /// Traces `n_photons` photons at the iteration's wavelengths `wl` with streams keyed by
 /// (`seed`, `iteration`, photon number) into `out` (its sums one per visibility point, all of
-/// them or the photon counts alone as `record` says). With a quasi-specular cone (`cone_cos`),
-/// bounces inside it keep a photon a caustic photon. The reduction adds every point's deposits
-/// in photon order (ranges of points in parallel), so the result is the same for any thread
-/// count.
+/// them or the photon counts alone as `record` says). Bounces the camera side passes through
+/// (`rule`: inside a quasi-specular cone, or off a narrow lobe) keep a photon a caustic photon.
+/// The reduction adds every point's deposits in photon order (ranges of points in parallel), so
+/// the result is the same for any thread count.
 #[allow(clippy::too_many_arguments)]
 pub fn trace_photons(
     scene: &Scene,
@@ -117,7 +117,7 @@ pub fn trace_photons(
     n_photons: u64,
     seed: u64,
     iteration: u32,
-    cone_cos: Option<f32>,
+    rule: GatherRule,
     record: PhotonRecord,
     out: &mut PhotonPassResult,
 ) {
@@ -135,7 +135,7 @@ pub fn trace_photons(
                 let n = photons_of(c)
                     .map(|i| {
                         let mut sampler = Sampler::new(seed, i, iteration as u64);
-                        trace_photon(scene, wl, cone_cos, &mut sampler, &mut pipeline, &mut gatherer)
+                        trace_photon(scene, wl, rule, &mut sampler, &mut pipeline, &mut gatherer)
                     })
                     .sum::<u64>();
                 pipeline.finish(&mut gatherer);
@@ -162,7 +162,7 @@ pub fn trace_photons(
             let mut pipeline = LookupPipeline::new(disks, grid);
             for i in photons_of(c) {
                 let mut sampler = Sampler::new(seed, i, iteration as u64);
-                chunk.lookups += trace_photon(scene, wl, cone_cos, &mut sampler, &mut pipeline, &mut gatherer);
+                chunk.lookups += trace_photon(scene, wl, rule, &mut sampler, &mut pipeline, &mut gatherer);
             }
             pipeline.finish(&mut gatherer);
             chunk.grouped.regroup(deposits, n_ranges, |d| d.point as usize / range);
@@ -198,7 +198,7 @@ pub fn trace_photons(
 fn trace_photon(
     scene: &Scene,
     wl_iteration: &SampledWavelengths,
-    cone_cos: Option<f32>,
+    rule: GatherRule,
     sampler: &mut Sampler,
     pipeline: &mut LookupPipeline,
     gatherer: &mut impl Gatherer,
@@ -254,10 +254,9 @@ fn trace_photon(
         // the camera side passes through narrow lobes and cones: photons bounced there stay
         // caustic photons (sharp, gathered with the caustic radius)
         caustic &= bs.specular
-            || cone_cos.is_some_and(|c| {
-                scene.non_uniformity()[si.material as usize].at(wo_local.z) > NARROW_KAPPA
-                    || QuasiCone::at(&bsdf, wo_local, c).is_some_and(|k| k.contains(bs.wi))
-            });
+            || ((rule.cone_cos.is_some() || rule.pass_narrow)
+                && scene.non_uniformity()[si.material as usize].at(wo_local.z) > NARROW_KAPPA)
+            || rule.cone_cos.is_some_and(|c| QuasiCone::at(&bsdf, wo_local, c).is_some_and(|k| k.contains(bs.wi)));
         ray = si.spawn_ray(wi);
         if bounce + 1 >= RR_DEPTH {
             // roulette on the throughput relative to the emitted flux

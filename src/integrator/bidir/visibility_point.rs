@@ -58,18 +58,25 @@ pub struct GatherRule {
     /// Specular and passed-through events after which a camera path is continued as the path
     /// tracer (with Russian roulette: a chain of mirrors need not end otherwise).
     pub max_specular: u32,
+    /// Pass narrow lobes through without a cone too (`adaptive`): they are not gather candidates
+    /// and do not count as depth, so a path that its pixel's depth would have gathered on a
+    /// narrow lobe (a pixel straddling a diffuse and a narrow surface) gathers at the next
+    /// vertex instead (docs/architecture.md §7.5).
+    pub pass_narrow: bool,
 }
 
 impl GatherRule {
-    /// True at a vertex the quasi-specular methods pass through instead of gathering: its lobe
-    /// is narrow (kappa(wo) > [`NARROW_KAPPA`]), so photons arriving from outside the cone are
-    /// too rare there to estimate the rest of the sphere (they would show as fireflies and as
-    /// light missing everywhere else). Such a vertex is traced like one before the gather
-    /// depth: full NEE with MIS and a BSDF-sampled continuation over the whole sphere, which is
-    /// unbiased, and it does not count as depth.
+    /// True at a vertex the quasi-specular methods and `adaptive` pass through instead of
+    /// gathering: its lobe is narrow (kappa(wo) > [`NARROW_KAPPA`]), so photons arriving within
+    /// it (or, with a cone, from outside the cone) are too rare there to estimate the rest of the
+    /// sphere (they would show as fireflies and as light missing everywhere else). Such a vertex
+    /// is traced like one before the gather depth: full NEE with MIS and a BSDF-sampled
+    /// continuation over the whole sphere, which is unbiased (the choice depends only on the
+    /// vertex reached), and it does not count as depth.
     #[inline]
     pub fn passes_through(&self, scene: &Scene, si: &SurfaceInteraction, wo_local: Vec3) -> bool {
-        self.cone_cos.is_some() && scene.non_uniformity()[si.material as usize].at(wo_local.z) > NARROW_KAPPA
+        (self.cone_cos.is_some() || self.pass_narrow)
+            && scene.non_uniformity()[si.material as usize].at(wo_local.z) > NARROW_KAPPA
     }
 }
 
@@ -228,12 +235,12 @@ pub const ESCAPED_KAPPA: f32 = 1.0;
 /// The gather depth a path of this pixel would choose for itself (docs/architecture.md §7.5): traced by BSDF
 /// sampling alone (no light sampling), it returns argmin over depths j of kappa(x_j), the
 /// non-uniformity of the first non-specular vertex at depth j (ties: the smaller depth), over at
-/// most `max_depth` + 1 depths; None when the path meets no non-specular vertex. With a cone, a
-/// vertex whose sample is quasi-specular, or that the rule passes through (a narrow lobe), is
+/// most `max_depth` + 1 depths; None when the path meets no non-specular vertex. A vertex that
+/// the rule passes through (a narrow lobe) or, with a cone, whose sample is quasi-specular, is
 /// not a candidate (its lobe is traced through), like specular vertices. A path that leaves the
 /// scene after a non-specular vertex makes the next depth a candidate of kappa 1
 /// ([`ESCAPED_KAPPA`]): a camera path gathering there meets only the environment (emission found
-/// by the BSDF sample, MIS-weighted against the light sample, no density estimate), so a narrow
+/// by the BSDF sample, MIS-weighted against the light sample, no density estimate), so a glossy
 /// vertex whose reflections escape is not chosen to gather on.
 pub fn pilot_gather_depth(
     scene: &Scene,
