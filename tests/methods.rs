@@ -37,14 +37,14 @@ const PASSES_NARROW_LOBES: Budget = Budget { iterations: 256, base: 4 };
 /// renders' mean at 256 iterations; at 1024 iterations 16-pixel blocks stay within 2.6.
 const VISMAP_ON_NARROW_LOBES: Budget = Budget { iterations: 1024, base: 16 };
 
-/// Renders every method/cone combination at 16 iterations and at its budget and checks that
-/// the mean relative error against the `pt` reference falls (an L1 measure: one firefly in the
-/// longer render, as `quasi` with a 1-degree cone inside the floor's wider lobe makes, raised
-/// relMSE from 0.033 to 0.097 for one seed of 16) and that the longer image passes the block z-test
-/// against it: the beauty from the budget's blocks, the emission and direct layers (camera paths
-/// and light samples only) from 4-pixel blocks, the photon-gathered indirect and caustic layers
-/// from the budget's blocks but at least 16 pixels (their sparse caustics through the plate's
-/// thin side faces and on the narrow floor are heavy-tailed in smaller blocks).
+/// Renders every method/cone combination at 16 iterations and at its budget and checks that the
+/// mean relative error against the `pt` reference falls (an L1 measure: one firefly in the longer
+/// render, as `quasi` with a 1-degree cone inside the floor's wider lobe makes, raised relMSE from
+/// 0.033 to 0.097 for one seed of 16) and that the longer image passes the block z-test against
+/// it: the beauty from the budget's blocks, the emission and direct layers (camera paths and light
+/// samples only) from 4-pixel blocks, the photon-gathered indirect and caustic layers from the
+/// budget's blocks but at least 16 pixels (their sparse caustics through the plate's thin side
+/// faces and on the narrow floor are heavy-tailed in smaller blocks).
 fn check_methods(path: &Path, reference: &JobOutput, w: u32, h: u32, methods: &[(&str, Option<f32>, Budget)]) {
     let r = reference.image.channel("XYZ.Y").unwrap();
     for &(method, cone, budget) in methods {
