@@ -37,6 +37,18 @@ const PASSES_NARROW_LOBES: Budget = Budget { iterations: 256, base: 4 };
 /// renders' mean at 256 iterations; at 1024 iterations 16-pixel blocks stay within 2.6.
 const VISMAP_ON_NARROW_LOBES: Budget = Budget { iterations: 1024, base: 16 };
 
+/// The methods that pass narrow lobes through, with the quasi-specular cones of 1, 10 and 30
+/// degrees, each at [`PASSES_NARROW_LOBES`].
+const NARROW_LOBE_PASSING_METHODS: [(&str, Option<f32>, Budget); 7] = [
+    ("adaptive", None, PASSES_NARROW_LOBES),
+    ("quasi", Some(1.0), PASSES_NARROW_LOBES),
+    ("quasi", Some(10.0), PASSES_NARROW_LOBES),
+    ("quasi", Some(30.0), PASSES_NARROW_LOBES),
+    ("adaptive+quasi", Some(1.0), PASSES_NARROW_LOBES),
+    ("adaptive+quasi", Some(10.0), PASSES_NARROW_LOBES),
+    ("adaptive+quasi", Some(30.0), PASSES_NARROW_LOBES),
+];
+
 /// Renders every method/cone combination at 16 iterations and at its budget and checks that the
 /// mean relative error against the `pt` reference falls (an L1 measure: one firefly in the longer
 /// render, as `quasi` with a 1-degree cone inside the floor's wider lobe makes, raised relMSE from
@@ -70,21 +82,7 @@ fn check_methods(path: &Path, reference: &JobOutput, w: u32, h: u32, methods: &[
 fn methods_converge_to_pt_on_the_glass_plate() {
     let path = shipped("glass-plate/glass-plate.toml");
     let reference = render_file(&path, &pt_ov(40, 30, 16384, 101));
-    check_methods(
-        &path,
-        &reference,
-        40,
-        30,
-        &[
-            ("adaptive", None, PASSES_NARROW_LOBES),
-            ("quasi", Some(1.0), PASSES_NARROW_LOBES),
-            ("quasi", Some(10.0), PASSES_NARROW_LOBES),
-            ("quasi", Some(30.0), PASSES_NARROW_LOBES),
-            ("adaptive+quasi", Some(1.0), PASSES_NARROW_LOBES),
-            ("adaptive+quasi", Some(10.0), PASSES_NARROW_LOBES),
-            ("adaptive+quasi", Some(30.0), PASSES_NARROW_LOBES),
-        ],
-    );
+    check_methods(&path, &reference, 40, 30, &NARROW_LOBE_PASSING_METHODS);
 }
 
 /// A narrow glossy floor (GGX alpha 0.03 conductor) mirroring a lit diffuse wall and sphere:
@@ -98,16 +96,7 @@ fn methods_converge_to_pt_on_a_narrow_glossy_scene() {
         &reference,
         40,
         30,
-        &[
-            ("vismap", None, VISMAP_ON_NARROW_LOBES),
-            ("adaptive", None, PASSES_NARROW_LOBES),
-            ("quasi", Some(1.0), PASSES_NARROW_LOBES),
-            ("quasi", Some(10.0), PASSES_NARROW_LOBES),
-            ("quasi", Some(30.0), PASSES_NARROW_LOBES),
-            ("adaptive+quasi", Some(1.0), PASSES_NARROW_LOBES),
-            ("adaptive+quasi", Some(10.0), PASSES_NARROW_LOBES),
-            ("adaptive+quasi", Some(30.0), PASSES_NARROW_LOBES),
-        ],
+        &[&[("vismap", None, VISMAP_ON_NARROW_LOBES)][..], &NARROW_LOBE_PASSING_METHODS].concat(),
     );
 }
 
