@@ -27,6 +27,9 @@ pub(super) struct Arrival {
     pub(super) above: bool,
     /// Towards where the photon came from.
     pub(super) wi: glam::Vec3,
+    /// |wi . ng| on the surface the photon landed on: the cosine of the flux density that the
+    /// photons within a disk measure.
+    pub(super) cos_hit: f32,
     /// The photon's flux.
     pub(super) beta: SampledSpectrum,
 }
@@ -40,24 +43,25 @@ pub(super) fn admits(vp: &VisibilityPoint, a: &Arrival) -> Option<(glam::Vec3, f
     if !vp.bsdf.has_transmission() && a.above != vp.viewer_above {
         return None;
     }
-    // the photon density measures irradiance on the geometric surface; the BSDF integrates
-    // against the shading cosine: |wi . ns| / |wi . ng| (Veach 1997, 5.3)
+    // the photon density measures irradiance on the geometric surface the photons landed on;
+    // the BSDF integrates against the point's shading cosine: |wi . ns| / |wi . ng_hit| (Veach
+    // 1997, 5.3). The landing surface's normal, not the point's: on a curved mesh a photon
+    // grazing its own facet can arrive parallel to the point's facet, and 1 / |wi . ng_point|
+    // would have an infinite variance (a pixel 15x too bright after a thousand iterations)
     let wi_local = vp.frame.to_local(a.wi);
     if in_cone(&vp.cone, wi_local) {
         return None; // the path continued through the cone estimates this light
     }
-    let cos_g = a.wi.dot(vp.ng).abs();
-    if cos_g <= 0.0 {
+    if a.cos_hit <= 0.0 || a.cos_hit.is_nan() {
         return None;
     }
-    Some((wi_local, cos_g))
+    Some((wi_local, a.cos_hit))
 }
 
 /// Receives the arrivals of one photon's path.
 pub(super) trait Gatherer {
-    /// The photon arrived inside the gather disk of point `vi`, whose unit geometric normal
-    /// is `ng` (the disk's copy of the point's).
-    fn arrive(&mut self, vi: u32, ng: glam::Vec3, a: &Arrival);
+    /// The photon arrived inside the gather disk of point `vi`.
+    fn arrive(&mut self, vi: u32, a: &Arrival);
 
     /// Starts loading what [`arrive`](Self::arrive) will read of point `vi` (a hint, see
     /// `core::prefetch`).
@@ -76,7 +80,7 @@ pub(super) struct Deposits<'a, 'p> {
 
 impl Gatherer for Deposits<'_, '_> {
     #[inline(always)]
-    fn arrive(&mut self, vi: u32, _: glam::Vec3, a: &Arrival) {
+    fn arrive(&mut self, vi: u32, a: &Arrival) {
         let vp = &self.points[vi as usize];
         let Some((wi_local, cos_g)) = admits(vp, a) else { return };
         let f = vp.bsdf.f(vp.wo_local, wi_local, TransportMode::Radiance);
@@ -135,15 +139,11 @@ pub(super) struct PhotonCounts<'a, 'p> {
 
 impl Gatherer for PhotonCounts<'_, '_> {
     #[inline]
-    fn arrive(&mut self, vi: u32, ng: glam::Vec3, a: &Arrival) {
+    fn arrive(&mut self, vi: u32, a: &Arrival) {
         let sides = self.sides[vi as usize];
-        // without a cone, `admits` is the side test and |wi . ng| > 0 (the disk's normal is
-        // the point's; a NaN passes there as here)
+        // without a cone, `admits` is the side test and the arrival's |wi . ng_hit| > 0
         let admitted = if sides & HAS_CONE == 0 {
-            (sides & GATHERS_BOTH_SIDES != 0 || a.above == (sides & VIEWER_ABOVE != 0)) && {
-                let cos_g = a.wi.dot(ng).abs();
-                cos_g > 0.0 || cos_g.is_nan()
-            }
+            (sides & GATHERS_BOTH_SIDES != 0 || a.above == (sides & VIEWER_ABOVE != 0)) && a.cos_hit > 0.0
         } else {
             admits(&self.points[vi as usize], a).is_some()
         };
@@ -229,10 +229,11 @@ mod tests {
                 hero_only: false,
                 above,
                 wi,
+                cos_hit: wi.dot(ng).abs(),
                 beta: SampledSpectrum::one(),
             };
             expected[vi] += admits(&points[vi], &a).is_some() as u32;
-            gatherer.arrive(vi as u32, ng, &a);
+            gatherer.arrive(vi as u32, &a);
         }
         let counted: Vec<u32> = counts.into_iter().map(AtomicU32::into_inner).collect();
         assert_eq!(counted, expected);
@@ -240,5 +241,44 @@ mod tests {
         assert!(points.iter().any(|vp| vp.cone.is_some()) && points.iter().any(|vp| vp.cone.is_none()));
         let admitted: u32 = expected.iter().sum();
         assert!(admitted > n_arrivals as u32 / 5 && admitted < n_arrivals as u32 * 4 / 5, "{admitted} of {n_arrivals}");
+    }
+
+    #[test]
+    fn a_photon_is_weighed_by_its_cosine_on_the_surface_it_landed_on() {
+        // a point on a curved mesh: geometric normal z, shading normal tilted by 5 degrees. A
+        // photon that landed on a neighbouring facet at 0.2 from its normal can travel parallel
+        // to the point's facet; its deposit is f beta |wi . ns| / 0.2, not divided by its
+        // cosine on the point's facet (1e-7 here: a deposit ten million times too large)
+        use quasar_materials::spectrum::Spectrum;
+        use quasar_materials::{Frame, Material};
+        let mut wl = SampledWavelengths::sample_uniform(0.5);
+        let white = Material::Diffuse { reflectance: Spectrum::Constant(0.5), two_sided: false }.bsdf(&mut wl);
+        let tilt = 5f32.to_radians();
+        let ns = Vec3::new(tilt.sin(), 0.0, tilt.cos());
+        let vp = VisibilityPoint {
+            p: Vec3::ZERO,
+            ng: Vec3::Z,
+            frame: Frame::from_z(ns),
+            wo_local: Vec3::Z,
+            bsdf: white,
+            beta: SampledSpectrum::one(),
+            class: crate::film::PathClass::default(),
+            depth: 0,
+            footprint_distance: 1.0,
+            cone: None,
+            viewer_above: true,
+        };
+        let wi = Vec3::new(1.0, 0.0, 1e-7).normalize();
+        let a = Arrival { above: true, wi, cos_hit: 0.2, beta: SampledSpectrum::one(), ..Arrival::default() };
+        let (points, point_wl) = ([vp], [wl]);
+        let mut list = Vec::new();
+        Deposits { list: &mut list, points: &points, point_wl: &point_wl }.arrive(0, &a);
+        assert_eq!(list.len(), 1);
+        let expected = 0.5 / std::f32::consts::PI * wi.dot(ns) / 0.2;
+        assert!((list[0].value[0] / expected - 1.0).abs() < 1e-4, "{} vs {expected}", list[0].value[0]);
+        // a photon parallel to the surface it landed on is not gathered
+        let grazing = Arrival { cos_hit: 0.0, ..a };
+        Deposits { list: &mut list, points: &points, point_wl: &point_wl }.arrive(0, &grazing);
+        assert_eq!(list.len(), 1);
     }
 }

@@ -101,7 +101,7 @@ impl<'g> LookupPipeline<'g> {
         // stage 4: the oldest's accepted points, to the gatherer
         let k = slot(0);
         for &vi in &accepted[k] {
-            gatherer.arrive(vi, disks[vi as usize].ng, &slots[k].arrival);
+            gatherer.arrive(vi, &slots[k].arrival);
         }
         // stage 3: the disk tests
         let k = slot(1);
@@ -137,13 +137,13 @@ mod tests {
     use super::*;
     use crate::core::sampling::{Sampler, uniform_sphere};
 
-    /// Every arrival in order: point, the hit's number (in `Arrival::beta[0]`), the disk's normal.
+    /// Every arrival in order: point, the hit's number (in `Arrival::beta[0]`).
     #[derive(Default)]
-    struct Log(Vec<(u32, f32, Vec3)>);
+    struct Log(Vec<(u32, f32)>);
 
     impl Gatherer for Log {
-        fn arrive(&mut self, vi: u32, ng: Vec3, a: &Arrival) {
-            self.0.push((vi, a.beta[0], ng));
+        fn arrive(&mut self, vi: u32, a: &Arrival) {
+            self.0.push((vi, a.beta[0]));
         }
 
         fn prefetch(&self, _: u32) {}
@@ -177,7 +177,7 @@ mod tests {
                 arrival.beta[0] = h as f32;
                 for &vi in grid.candidates(p) {
                     if disks[vi as usize].holds(p, ng, arrival.caustic) {
-                        direct.arrive(vi, disks[vi as usize].ng, &arrival);
+                        direct.arrive(vi, &arrival);
                     }
                 }
                 pipeline.push(p, ng, arrival, &mut piped);

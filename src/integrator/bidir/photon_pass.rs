@@ -230,6 +230,7 @@ fn trace_photon(
                 hero_only: wl.secondary_terminated(),
                 above: wi_photon.dot(si.ng) > 0.0,
                 wi: wi_photon,
+                cos_hit: wi_photon.dot(si.ng).abs(),
                 beta,
             };
             pipeline.push(si.p, si.ng, arrival, gatherer);
