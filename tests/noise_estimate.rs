@@ -25,20 +25,23 @@ fn ov(spp: Option<u32>, target: Option<f64>, seed: u64) -> JobOverrides {
 }
 
 /// The image's estimated RMS relative error (from per-pixel sample variances) predicts its actual
-/// error against a converged reference within 25%.
+/// error against a converged reference within 25% at 256 spp. The estimate is low where a
+/// pixel's rare large samples have not been drawn yet: over 12 seeds (`quasar render
+/// scenes/cornell-box/cornell-box.toml --width 32 --height 32 --spp N --seed S` against 8192-spp
+/// references) estimated / actual was 0.61-0.91 at 16 spp, 0.71-1.00 at 64 and 0.85-1.00 at
+/// 256, so the test's former 16-spp case passed only for some seeds.
 #[test]
 fn stderr_predicts_the_actual_error() {
     let reference = render_file(&cornell(), &ov(Some(8192), None, 1)).image;
     let r = reference.channel("XYZ.Y").unwrap();
-    for spp in [16, 256] {
-        let img = render_file(&cornell(), &ov(Some(spp), None, 2));
-        let actual = rel_mse(img.image.channel("XYZ.Y").unwrap(), r).sqrt();
-        let estimated = img.result.film.estimated_rel_error();
-        eprintln!("{spp} spp: estimated {estimated:.4}, actual {actual:.4}");
-        assert!((estimated / actual - 1.0).abs() < 0.25, "{spp} spp: estimated {estimated}, actual {actual}");
-        let stderr = img.image.channel("stderr.Y").unwrap();
-        assert!(stderr.iter().all(|v| v.is_finite() && *v >= 0.0));
-    }
+    let spp = 256;
+    let img = render_file(&cornell(), &ov(Some(spp), None, 2));
+    let actual = rel_mse(img.image.channel("XYZ.Y").unwrap(), r).sqrt();
+    let estimated = img.result.film.estimated_rel_error();
+    eprintln!("{spp} spp: estimated {estimated:.4}, actual {actual:.4}");
+    assert!((estimated / actual - 1.0).abs() < 0.25, "{spp} spp: estimated {estimated}, actual {actual}");
+    let stderr = img.image.channel("stderr.Y").unwrap();
+    assert!(stderr.iter().all(|v| v.is_finite() && *v >= 0.0));
 }
 
 /// `--target-error` stops as soon as the estimate reaches the target, for pt and a bidirectional
