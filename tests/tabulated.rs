@@ -48,7 +48,7 @@ fn tabulated_ggx_renders_like_the_analytic_material() {
     );
     let tab =
         write_scene(&glossy_floor_scene("[materials.floor]\nfile = \"ggx.toml\"\n"), &[("ggx.toml", &table_text())]);
-    let spp = 512;
+    let spp = 4096;
     let a1 = y(&ana.path, &ov("pt", 1, spp));
     let a2 = y(&ana.path, &ov("pt", 2, spp));
     let t1 = y(&tab.path, &ov("pt", 3, spp));
@@ -57,8 +57,10 @@ fn tabulated_ggx_renders_like_the_analytic_material() {
     let bias = mean(&t1) / mean(&a1) - 1.0;
     eprintln!("pt: relMSE tabulated vs analytic {diff:.5}, analytic vs analytic {noise:.5}, mean {bias:+.4}");
     // The table differs from the analytic lobe only by interpolation: the images differ by
-    // little more than two independent renders of the analytic scene do.
-    assert!(diff < 1.5 * noise + 1e-3, "tabulated relMSE {diff} vs noise {noise}");
+    // little more than two independent renders of the analytic scene do. (The table's image is
+    // 0.5-0.7% brighter, the interpolation's bias, over 8 seeds at 4096 spp; at 512 spp the
+    // noise of the means, up to +1.1%, made the 1% bound hold for some seeds only.)
+    assert!(diff < 1.5 * noise + 1e-4, "tabulated relMSE {diff} vs noise {noise}");
     assert!(bias.abs() < 0.01, "mean differs by {bias}");
 
     // The photon methods evaluate the table in importance mode and use its ideal directions.
