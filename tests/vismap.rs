@@ -115,9 +115,16 @@ fn vismap_furnace_converges_to_the_geometric_series() {
 
 /// Renders `scene` with pt (`spp`) and vismap (depth 0 and 1, 256 iterations, `photons` per
 /// iteration, the automatic radius) and checks every layer of both depths with the block z-test
-/// (at depth 1 the caustic layer, path-traced there through the specular chain to the light
-/// like pt's, from 16-pixel blocks: at 256 samples it is heavy-tailed in smaller ones).
-fn pt_and_vismap(scene: &common::TempScene, spp: u32, photons: u64, label: &str) -> (JobOutput, Vec<JobOutput>) {
+/// from `base`-pixel blocks (at depth 1 the caustic layer, path-traced there through the
+/// specular chain to the light like pt's, from at least 16-pixel blocks: at 256 samples it is
+/// heavy-tailed in smaller ones).
+fn pt_and_vismap(
+    scene: &common::TempScene,
+    spp: u32,
+    photons: u64,
+    base: usize,
+    label: &str,
+) -> (JobOutput, Vec<JobOutput>) {
     let reference = render_file(&scene.path, &pt_ov(32, 24, spp, 21));
     let vm: Vec<JobOutput> = [0, 1]
         .iter()
@@ -130,10 +137,10 @@ fn pt_and_vismap(scene: &common::TempScene, spp: u32, photons: u64, label: &str)
     for (depth, img) in vm.iter().enumerate() {
         let label = format!("{label} depth {depth}");
         if depth == 0 {
-            assert_converges(&label, img, &reference, &ALL_QUANTITIES);
+            assert_converges_from(base, &label, img, &reference, &ALL_QUANTITIES);
         } else {
-            assert_converges(&label, img, &reference, &ALL_QUANTITIES[..4]);
-            assert_converges_from(16, &label, img, &reference, &ALL_QUANTITIES[4..]);
+            assert_converges_from(base, &label, img, &reference, &ALL_QUANTITIES[..4]);
+            assert_converges_from(base.max(16), &label, img, &reference, &ALL_QUANTITIES[4..]);
         }
     }
     (reference, vm)
@@ -213,13 +220,17 @@ scale = 0.05
 "#,
         &[],
     );
-    pt_and_vismap(&scene, 4096, 20_000, "light types");
+    pt_and_vismap(&scene, 4096, 20_000, 4, "light types");
 }
 
 /// A smooth glass sphere focuses an area light onto a diffuse floor: vismap's caustic photons
 /// (r_c) give the same caustic layer and image as pt's BSDF-sampled light hits through the glass
 /// (block z-test of every layer, at the automatic radius: the pilot pass shrinks it where the
-/// caustic concentrates photons).
+/// caustic concentrates photons). Every layer is tested from 16-pixel blocks: from 4-pixel
+/// blocks a seed scan (every seed shifted) failed 7 of 12 seeds, each time in one block of one
+/// layer (the caustic's rare large photons, the indirect light through the sphere, a rare
+/// reflection of the lamp in the sphere that 256 camera paths per pixel missed), with the
+/// layers' means in agreement; from 16-pixel blocks 12 of 12 pass.
 #[test]
 fn vismap_caustic_layer_matches_pt() {
     let scene = write_scene(
@@ -258,7 +269,7 @@ emission = { spectrum = { constant = 1 }, scale = 4.0 }
 "#,
         &[],
     );
-    let (reference, _) = pt_and_vismap(&scene, 8192, 100_000, "caustic");
+    let (reference, _) = pt_and_vismap(&scene, 8192, 100_000, 16, "caustic");
     let rc = mean(&layer_luminance(&reference.image, "caustic"));
     assert!(rc > 0.02 * mean(reference.image.channel("XYZ.Y").unwrap()), "the scene has a visible caustic ({rc})");
 }
