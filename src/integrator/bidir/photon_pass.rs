@@ -5,8 +5,8 @@
 
 use std::sync::atomic::AtomicU32;
 
+use quasar_materials::TransportMode;
 use quasar_materials::spectrum::SampledWavelengths;
-use quasar_materials::{NARROW_KAPPA, TransportMode};
 use rayon::prelude::*;
 
 use super::arrival::{Arrival, Deposit, Deposits, Gatherer, PhotonCounts, PointSides, point_sides};
@@ -221,6 +221,8 @@ fn trace_photon(
         let Some(si) = scene.intersect(&ray) else { break };
         let bsdf = scene.bsdf_at(&si, &mut wl);
         let wi_photon = -ray.dir;
+        // the photon's incidence cosine on the surface it hit (geometric normal)
+        let cos_in = wi_photon.dot(si.ng);
         if bounce > 0 && !bsdf.is_specular() {
             lookups += 1;
             // the photon at this hit, whichever point's disk it lands in
@@ -228,9 +230,9 @@ fn trace_photon(
                 caustic,
                 specular_only,
                 hero_only: wl.secondary_terminated(),
-                above: wi_photon.dot(si.ng) > 0.0,
+                above: cos_in > 0.0,
                 wi: wi_photon,
-                cos_hit: wi_photon.dot(si.ng).abs(),
+                cos_hit: cos_in.abs(),
                 beta,
             };
             pipeline.push(si.p, si.ng, arrival, gatherer);
@@ -243,7 +245,7 @@ fn trace_photon(
         let (bs, wi) = (sc.bs, sc.wi);
         // adjoint BSDF with shading normals (Veach 1997, eq. 5.19): the importance throughput
         // f |wi . ns| / pdf times |wo . ns| |wi . ng| / (|wo . ng| |wi . ns|)
-        let cos_o_g = wi_photon.dot(si.ng).abs();
+        let cos_o_g = cos_in.abs();
         if cos_o_g <= 0.0 {
             break;
         }
@@ -255,8 +257,7 @@ fn trace_photon(
         // the camera side passes through narrow lobes and cones: photons bounced there stay
         // caustic photons (sharp, gathered with the caustic radius)
         caustic &= bs.specular
-            || ((rule.cone_cos.is_some() || rule.pass_narrow)
-                && scene.non_uniformity()[si.material as usize].at(wo_local.z) > NARROW_KAPPA)
+            || rule.passes_through(scene, &si, wo_local)
             || rule.cone_cos.is_some_and(|c| QuasiCone::at(&bsdf, wo_local, c).is_some_and(|k| k.contains(bs.wi)));
         ray = si.spawn_ray(wi);
         if bounce + 1 >= RR_DEPTH {
