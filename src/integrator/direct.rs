@@ -54,34 +54,58 @@ pub fn sample_direct_outside(
     sampler: &mut Sampler,
     excluded: impl Fn(Vec3) -> bool,
 ) -> SampledSpectrum {
+    match sample_light(scene, si, bsdf, wo_local, wl, sampler, excluded) {
+        Some(ls) if !scene.occluded(&ls.shadow) => ls.contribution,
+        _ => SampledSpectrum::zero(),
+    }
+}
+
+/// A light sample of next-event estimation before its visibility is known: what it adds when
+/// nothing blocks `shadow`.
+#[derive(Clone, Copy, Debug)]
+pub struct UnshadowedLight {
+    /// The segment from the vertex towards the light point.
+    pub shadow: crate::core::geometry::Ray,
+    /// f |cos| Li w_light / (p_select pdf_light), as [`sample_direct`] returns it when the
+    /// segment is clear.
+    pub contribution: SampledSpectrum,
+}
+
+/// [`sample_direct_outside`] without its shadow ray: the light sample and its contribution if
+/// unoccluded (None where it contributes nothing whatever the visibility), for a caller that
+/// traces the shadow ray later (`pt` traces it just before the path's next ray, which the
+/// processor then overlaps with it). Draws the same random numbers as [`sample_direct_outside`].
+#[inline(always)]
+pub fn sample_light(
+    scene: &Scene,
+    si: &SurfaceInteraction,
+    bsdf: &Bsdf,
+    wo_local: Vec3,
+    wl: &SampledWavelengths,
+    sampler: &mut Sampler,
+    excluded: impl Fn(Vec3) -> bool,
+) -> Option<UnshadowedLight> {
     let u_light = sampler.get_u64();
     let u_point = sampler.get_2d();
-    let Some((li_index, p_select)) = scene.light_sampler.sample(u_light) else {
-        return SampledSpectrum::zero();
-    };
+    let (li_index, p_select) = scene.light_sampler.sample(u_light)?;
     let light = &scene.lights[li_index];
-    let Some(ls) = light.sample_li(si.p, u_point, wl, &scene.emissions) else {
-        return SampledSpectrum::zero();
-    };
+    let ls = light.sample_li(si.p, u_point, wl, &scene.emissions)?;
     if ls.pdf <= 0.0 || ls.li.is_black() {
-        return SampledSpectrum::zero();
+        return None;
     }
     let wi_local = si.frame().to_local(ls.wi);
     // a delta light is never excluded: no continued path can hit it (docs/architecture.md §7.5)
     if !ls.delta && excluded(wi_local) {
-        return SampledSpectrum::zero();
+        return None;
     }
     let (f, p_bsdf) = bsdf.f_pdf(wo_local, wi_local, TransportMode::Radiance);
     let f = f * wi_local.z.abs();
     if f.is_black() {
-        return SampledSpectrum::zero();
-    }
-    if scene.occluded(&si.spawn_shadow_ray(ls.wi, ls.dist)) {
-        return SampledSpectrum::zero();
+        return None;
     }
     let p_light = p_select * ls.pdf;
     let w = if ls.delta { 1.0 } else { power_heuristic(p_light, p_bsdf) };
-    f * ls.li * (w / p_light)
+    Some(UnshadowedLight { shadow: si.spawn_shadow_ray(ls.wi, ls.dist), contribution: f * ls.li * (w / p_light) })
 }
 
 /// MIS-weighted emission of the surface at `si` towards `wo`, reached from `prev`

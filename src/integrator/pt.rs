@@ -5,7 +5,7 @@
 use quasar_materials::TransportMode;
 use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
 
-use super::direct::{PrevVertex, emitted_at_hit, escaped_radiance, sample_direct};
+use super::direct::{PrevVertex, UnshadowedLight, emitted_at_hit, escaped_radiance, sample_light};
 use super::entry::{Built, MethodEntry};
 use super::params::{ParamKind, ParamSpec};
 use super::per_pixel::PerPixel;
@@ -136,7 +136,16 @@ pub fn trace(
     out: &mut LayeredRadiance,
 ) {
     let PathState { mut beta, mut class, mut prev, mut eta_scale, mut depth } = state;
+    // the last vertex's light sample: its shadow ray is traced just before the path's next
+    // ray (the two are independent), and its contribution, times the path throughput, added
+    // if the segment is clear, before anything the next ray finds
+    let mut pending: Option<(UnshadowedLight, PathClass)> = None;
     loop {
+        if let Some((l, c)) = pending.take()
+            && !scene.occluded(&l.shadow)
+        {
+            out.add(c, l.contribution);
+        }
         let Some(si) = scene.intersect(&ray) else {
             out.add(class, beta * escaped_radiance(scene, &prev, ray.dir, wl));
             break;
@@ -150,8 +159,10 @@ pub fn trace(
         let frame = si.frame();
         let wo_local = frame.to_local(wo);
         if !bsdf.is_specular() {
-            let ld = sample_direct(scene, &si, &bsdf, wo_local, wl, sampler);
-            out.add(class.scattered(false), beta * ld);
+            pending = sample_light(scene, &si, &bsdf, wo_local, wl, sampler, |_| false).map(|mut l| {
+                l.contribution = beta * l.contribution;
+                (l, class.scattered(false))
+            });
         }
         let Some(sc) = scatter(&bsdf, &si, &frame, wo, wo_local, TransportMode::Radiance, sampler) else { break };
         let (bs, wi) = (sc.bs, sc.wi);
@@ -169,5 +180,11 @@ pub fn trace(
         if depth >= settings.rr_depth && !russian_roulette(&mut beta, eta_scale, sampler.get_1d()) {
             break;
         }
+    }
+    // a path that ends after a light sample: that sample's shadow ray
+    if let Some((l, c)) = pending
+        && !scene.occluded(&l.shadow)
+    {
+        out.add(c, l.contribution);
     }
 }
