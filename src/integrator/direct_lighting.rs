@@ -8,7 +8,7 @@
 use quasar_materials::TransportMode;
 use quasar_materials::spectrum::SampledWavelengths;
 
-use super::direct::{PrevVertex, emitted_at_hit, escaped_radiance, sample_direct};
+use super::direct::{PrevVertex, emitted_at_hit, escaped_radiance, sample_light};
 use super::entry::{Built, MethodEntry};
 use super::per_pixel::{PerPixel, PixelEstimator};
 use super::pt::MAX_DEPTH;
@@ -65,9 +65,17 @@ impl PixelEstimator for DirectLighting {
             let frame = si.frame();
             let wo_local = frame.to_local(wo);
             if !bsdf.is_specular() {
-                out.add(class.scattered(false), beta * sample_direct(scene, &si, &bsdf, wo_local, wl, sampler));
+                let light = sample_light(scene, &si, &bsdf, wo_local, wl, sampler, |_| false);
+                let sc = scatter(&bsdf, &si, &frame, wo, wo_local, TransportMode::Radiance, sampler);
+                // the light sample's shadow ray just before the BSDF sample's ray, as in `pt`
+                // (docs/architecture.md §7.2)
+                if let Some(l) = light
+                    && !scene.occluded(&l.shadow)
+                {
+                    out.add(class.scattered(false), beta * l.contribution);
+                }
                 // the BSDF-sampling half of MIS: one segment, emitters only
-                if let Some(sc) = scatter(&bsdf, &si, &frame, wo, wo_local, TransportMode::Radiance, sampler) {
+                if let Some(sc) = sc {
                     let next = PrevVertex { p: si.p, pdf: sc.bs.pdf };
                     let le = match scene.intersect(&si.spawn_ray(sc.wi)) {
                         Some(hit) => emitted_at_hit(scene, &hit, -sc.wi, &next, wl),
