@@ -8,6 +8,7 @@ use quasar_materials::{Bsdf, TransportMode};
 use crate::core::light::Light;
 use crate::core::sampling::{Sampler, power_heuristic};
 use crate::core::scene::{Scene, SurfaceInteraction};
+use crate::film::{LayeredRadiance, PathClass};
 
 /// How the current path vertex was reached, for the MIS weight of emission found there.
 #[derive(Clone, Copy, Debug)]
@@ -27,7 +28,8 @@ impl PrevVertex {
 }
 
 /// Next-event estimation at `si`: one power-proportional light choice and one point on it;
-/// returns f |cos| Li w_light / (p_select pdf_light) (path throughput not included).
+/// returns f |cos| Li w_light / (p_select pdf_light) (path throughput not included), 0 when the
+/// shadow ray is blocked.
 #[inline]
 pub fn sample_direct(
     scene: &Scene,
@@ -37,24 +39,7 @@ pub fn sample_direct(
     wl: &SampledWavelengths,
     sampler: &mut Sampler,
 ) -> SampledSpectrum {
-    sample_direct_outside(scene, si, bsdf, wo_local, wl, sampler, |_| false)
-}
-
-/// [`sample_direct`] restricted to the directions where `excluded(wi_local)` is false: light
-/// samples in the excluded set contribute nothing (docs/architecture.md §7.5: the quasi-specular cone C is
-/// estimated by the continued path instead), except samples of delta lights (point, spot,
-/// directional), which a continued path can never hit and which are therefore always counted.
-#[inline(always)]
-pub fn sample_direct_outside(
-    scene: &Scene,
-    si: &SurfaceInteraction,
-    bsdf: &Bsdf,
-    wo_local: Vec3,
-    wl: &SampledWavelengths,
-    sampler: &mut Sampler,
-    excluded: impl Fn(Vec3) -> bool,
-) -> SampledSpectrum {
-    match sample_light(scene, si, bsdf, wo_local, wl, sampler, excluded) {
+    match sample_light(scene, si, bsdf, wo_local, wl, sampler, |_| false) {
         Some(ls) if !scene.occluded(&ls.shadow) => ls.contribution,
         _ => SampledSpectrum::zero(),
     }
@@ -71,10 +56,43 @@ pub struct UnshadowedLight {
     pub contribution: SampledSpectrum,
 }
 
-/// [`sample_direct_outside`] without its shadow ray: the light sample and its contribution if
-/// unoccluded (None where it contributes nothing whatever the visibility), for a caller that
-/// traces the shadow ray later (`pt` traces it just before the path's next ray, which the
-/// processor then overlaps with it). Draws the same random numbers as [`sample_direct_outside`].
+impl UnshadowedLight {
+    /// This sample as a path's: its contribution times the path throughput `beta`, for layer
+    /// `class` of the path's sums.
+    #[inline(always)]
+    pub fn for_path(self, beta: SampledSpectrum, class: PathClass) -> PendingLight {
+        PendingLight { shadow: self.shadow, contribution: beta * self.contribution, class }
+    }
+}
+
+/// A path's light sample whose shadow ray is still to be traced: the path integrators trace it
+/// just before the path's next ray, which the processor then overlaps with it (docs/architecture.md
+/// §7.2), and add it before anything that ray finds, so the sums are those of tracing it at once.
+#[derive(Clone, Copy, Debug)]
+pub struct PendingLight {
+    shadow: crate::core::geometry::Ray,
+    contribution: SampledSpectrum,
+    class: PathClass,
+}
+
+impl PendingLight {
+    /// Traces the shadow ray and adds the contribution to `out` if nothing blocks it.
+    #[inline(always)]
+    pub fn resolve(self, scene: &Scene, out: &mut LayeredRadiance) {
+        if !scene.occluded(&self.shadow) {
+            out.add(self.class, self.contribution);
+        }
+    }
+}
+
+/// Next-event estimation at `si` without its shadow ray, restricted to the directions where
+/// `excluded(wi_local)` is false: one power-proportional light choice and one point on it, the
+/// BSDF's f and pdf there and the MIS weight; None where the sample contributes nothing
+/// whatever the visibility. Light samples in the excluded set contribute nothing
+/// (docs/architecture.md §7.5: the quasi-specular cone C is estimated by the continued path
+/// instead), except samples of delta lights (point, spot, directional), which a continued path
+/// can never hit and which are therefore always counted. [`sample_direct`] traces the shadow
+/// ray at once; the path integrators hold it as a [`PendingLight`].
 #[inline(always)]
 pub fn sample_light(
     scene: &Scene,

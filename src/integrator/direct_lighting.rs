@@ -69,10 +69,8 @@ impl PixelEstimator for DirectLighting {
                 let sc = scatter(&bsdf, &si, &frame, wo, wo_local, TransportMode::Radiance, sampler);
                 // the light sample's shadow ray just before the BSDF sample's ray, as in `pt`
                 // (docs/architecture.md §7.2)
-                if let Some(l) = light
-                    && !scene.occluded(&l.shadow)
-                {
-                    out.add(class.scattered(false), beta * l.contribution);
+                if let Some(l) = light {
+                    l.for_path(beta, class.scattered(false)).resolve(scene, &mut out);
                 }
                 // the BSDF-sampling half of MIS: one segment, emitters only
                 if let Some(sc) = sc {

@@ -5,7 +5,7 @@
 use quasar_materials::TransportMode;
 use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
 
-use super::direct::{PrevVertex, UnshadowedLight, emitted_at_hit, escaped_radiance, sample_light};
+use super::direct::{PendingLight, PrevVertex, emitted_at_hit, escaped_radiance, sample_light};
 use super::entry::{Built, MethodEntry};
 use super::params::{ParamKind, ParamSpec};
 use super::per_pixel::PerPixel;
@@ -139,12 +139,10 @@ pub fn trace(
     // the last vertex's light sample: its shadow ray is traced just before the path's next
     // ray (the two are independent), and its contribution, times the path throughput, added
     // if the segment is clear, before anything the next ray finds
-    let mut pending: Option<(UnshadowedLight, PathClass)> = None;
+    let mut pending: Option<PendingLight> = None;
     loop {
-        if let Some((l, c)) = pending.take()
-            && !scene.occluded(&l.shadow)
-        {
-            out.add(c, l.contribution);
+        if let Some(l) = pending.take() {
+            l.resolve(scene, out);
         }
         let Some(si) = scene.intersect(&ray) else {
             out.add(class, beta * escaped_radiance(scene, &prev, ray.dir, wl));
@@ -159,10 +157,8 @@ pub fn trace(
         let frame = si.frame();
         let wo_local = frame.to_local(wo);
         if !bsdf.is_specular() {
-            pending = sample_light(scene, &si, &bsdf, wo_local, wl, sampler, |_| false).map(|mut l| {
-                l.contribution = beta * l.contribution;
-                (l, class.scattered(false))
-            });
+            pending = sample_light(scene, &si, &bsdf, wo_local, wl, sampler, |_| false)
+                .map(|l| l.for_path(beta, class.scattered(false)));
         }
         let Some(sc) = scatter(&bsdf, &si, &frame, wo, wo_local, TransportMode::Radiance, sampler) else { break };
         let (bs, wi) = (sc.bs, sc.wi);
@@ -182,9 +178,7 @@ pub fn trace(
         }
     }
     // a path that ends after a light sample: that sample's shadow ray
-    if let Some((l, c)) = pending
-        && !scene.occluded(&l.shadow)
-    {
-        out.add(c, l.contribution);
+    if let Some(l) = pending {
+        l.resolve(scene, out);
     }
 }

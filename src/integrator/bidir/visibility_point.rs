@@ -11,7 +11,7 @@ use crate::core::geometry::Ray;
 use crate::core::sampling::Sampler;
 use crate::core::scene::{Scene, SurfaceInteraction};
 use crate::film::{LayeredRadiance, PathClass};
-use crate::integrator::direct::{PrevVertex, emitted_at_hit, escaped_radiance, sample_direct, sample_direct_outside};
+use crate::integrator::direct::{PendingLight, PrevVertex, emitted_at_hit, escaped_radiance, sample_light};
 use crate::integrator::pt::{self, PathState, PtSettings};
 use crate::integrator::scatter::scatter;
 
@@ -151,7 +151,13 @@ pub fn trace_camera_path<'s>(
     let mut pass_through_events = 0u32;
     let mut eta_scale = 1.0f32;
     let mut events = 0u32;
+    // the last vertex's light sample, its shadow ray traced just before the path's next ray, as in
+    // `pt` (docs/architecture.md §7.2)
+    let mut pending: Option<PendingLight> = None;
     loop {
+        if let Some(l) = pending.take() {
+            l.resolve(scene, &mut out);
+        }
         let Some(si) = scene.intersect(&ray) else {
             out.add(class, beta * escaped_radiance(scene, &prev, ray.dir, &wl));
             break;
@@ -169,8 +175,8 @@ pub fn trace_camera_path<'s>(
         let cone = if specular || narrow { None } else { cone_at(rule, &bsdf, wo_local) };
         let gather = !specular && !narrow && depth == rule.depth;
         if gather {
-            let ld = sample_direct_outside(scene, &si, &bsdf, wo_local, &wl, sampler, |w| in_cone(&cone, w));
-            out.add(class.scattered(false), beta * ld);
+            pending = sample_light(scene, &si, &bsdf, wo_local, &wl, sampler, |w| in_cone(&cone, w))
+                .map(|l| l.for_path(beta, class.scattered(false)));
             points.push(VisibilityPoint {
                 p: si.p,
                 ng: si.ng,
@@ -185,8 +191,8 @@ pub fn trace_camera_path<'s>(
                 viewer_above: wo.dot(si.ng) > 0.0,
             });
         } else if !specular {
-            let ld = sample_direct(scene, &si, &bsdf, wo_local, &wl, sampler);
-            out.add(class.scattered(false), beta * ld);
+            pending = sample_light(scene, &si, &bsdf, wo_local, &wl, sampler, |_| false)
+                .map(|l| l.for_path(beta, class.scattered(false)));
         }
         if specular || narrow {
             pass_through_events += 1;
@@ -196,6 +202,9 @@ pub fn trace_camera_path<'s>(
         let quasi_specular = !bs.specular && in_cone(&cone, bs.wi);
         if gather && !quasi_specular {
             // the sample left the cone: it estimates the direct light of C' (MIS) and ends the path
+            if let Some(l) = pending.take() {
+                l.resolve(scene, &mut out);
+            }
             out.add(class.scattered(false), beta * direct_by_bsdf_sample(scene, &si, wi, bs.pdf, weight, &wl));
             break;
         }
@@ -219,10 +228,16 @@ pub fn trace_camera_path<'s>(
         if points.len() - first_point >= MAX_POINTS_PER_PATH || pass_through_events > rule.max_specular {
             // the rest of the path as the (unbiased) path tracer: full light sampling at every
             // vertex, Russian roulette instead of a cap
+            if let Some(l) = pending.take() {
+                l.resolve(scene, &mut out);
+            }
             let state = PathState { beta, class, prev, eta_scale, depth: events };
             pt::trace(scene, ray, state, &mut wl, sampler, &PtSettings::default(), &mut out);
             break;
         }
+    }
+    if let Some(l) = pending {
+        l.resolve(scene, &mut out);
     }
     CameraPathResult { radiance: out, points: (points.len() - first_point) as u32, wl }
 }
