@@ -290,7 +290,9 @@ fn illuminance_layer_is_the_inverse_square_law() {
 /// A luminaire with a luminous opening 30 cm above the floor, beside a wall (indirect light; the
 /// wall hides the floor behind it, where photons would be too sparse for 4-pixel blocks):
 /// the photons of `vismap` leave from the opening as `pt`'s next-event samples do, so every
-/// layer converges to `pt`'s image (block z-test); the image differs from the point
+/// layer converges to `pt`'s image (block z-test from 8-pixel blocks: a seed scan found one of
+/// the 36 four-pixel blocks at z +4.57 for 1 seed of 16, a different worst block for most seeds;
+/// docs/validation.md, "Tests that hold for any seed"); the image differs from the point
 /// luminaire's by far more than its errors (the opening matters at this distance).
 #[test]
 fn a_near_field_luminaire_converges_under_a_bidirectional_method() {
@@ -299,7 +301,7 @@ fn a_near_field_luminaire_converges_under_a_bidirectional_method() {
     let s = common::write_scene(&toml, &[("lamp.ies", &ies_text())]);
     let reference = common::render_file(&s.path, &common::pt_ov(24, 24, 1024, 1));
     let img = common::render_file(&s.path, &common::bidir_ov(24, 24, "vismap", 256, 16384, 2));
-    common::assert_converges("near-field luminaire, vismap", &img, &reference, &common::ALL_QUANTITIES);
+    common::assert_converges_from(8, "near-field luminaire, vismap", &img, &reference, &common::ALL_QUANTITIES);
     let point =
         common::write_scene(&toml.replace("opening = { size = [1.0, 0.6] }\n", ""), &[("lamp.ies", &ies_text())]);
     let point = common::render_file(&point.path, &common::pt_ov(24, 24, 1024, 1));

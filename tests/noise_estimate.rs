@@ -45,12 +45,18 @@ fn stderr_predicts_the_actual_error() {
 }
 
 /// `--target-error` stops as soon as the estimate reaches the target, for pt and a bidirectional
-/// method; the achieved error is close to it.
+/// method; the achieved error is close to it (within 20%). The pt case is rendered at 64x64:
+/// at 32x32 the achieved error over 24 seeds (`quasar render scenes/cornell-box/cornell-box.toml
+/// --width 32 --height 32 --target-error 0.05 --seed S`, S = 3 + 1000 q) was 0.045-0.062 against
+/// an 8192-spp reference, above 0.06 for one seed: the estimate, an average over the image's
+/// pixels of their sample variances, is low while their rare large samples are undrawn, and 1024
+/// pixels average that out less than 4096 do (0.044-0.054 over the same 24 seeds at 64x64).
 #[test]
 fn target_error_stops_the_render() {
-    let reference = render_file(&cornell(), &ov(Some(8192), None, 1)).image;
+    let at_64 = |o: JobOverrides| JobOverrides { width: Some(64), height: Some(64), ..o };
+    let reference = render_file(&cornell(), &at_64(ov(Some(8192), None, 1))).image;
     let r = reference.channel("XYZ.Y").unwrap();
-    let img = render_file(&cornell(), &ov(None, Some(0.05), 3));
+    let img = render_file(&cornell(), &at_64(ov(None, Some(0.05), 3)));
     let est = img.result.film.estimated_rel_error();
     let actual = rel_mse(img.image.channel("XYZ.Y").unwrap(), r).sqrt();
     eprintln!("pt: {} spp, estimated {est:.4}, actual {actual:.4}", img.result.spp);

@@ -116,10 +116,19 @@ fn lightguide_front_under_the_narrow_lobe_methods() {
 }
 
 /// `auto` at its default settings (two photons per pixel, the automatic radius) converges on
-/// the shipped scenes it renders with a bidirectional method, at 256 iterations.
+/// the shipped scenes it renders with a bidirectional method, at 256 iterations: the glass plate
+/// and the glossy room. Not the lightguide: in its own view `pt` reaches the housing only
+/// through caustic paths into the LEDs, so a `pt` reference there is low in a typical render
+/// and confident about it (docs/validation.md, "Tests that hold for any seed"). A seed scan of
+/// this test with the lightguide from 8-pixel blocks gave an rms z of 1.5-2.4 over its 12
+/// blocks for 21 of 21 seeds, its worst block always on the side of `auto` being brighter (+1.1
+/// to +3.2%, z up to +4.35). `auto` at its defaults on the lightguide is checked against
+/// Mitsuba's particle tracer instead (`tests/crosscheck/lightguide_ptracer.py`, run by
+/// `.ci/run`), and the method it picks there, `adaptive+quasi` (asserted here), against `pt`
+/// from the rod's front by the test above.
 #[test]
 fn auto_at_default_settings_converges_on_the_shipped_scenes() {
-    for scene in ["glass-plate/glass-plate.toml", "glossy-room/glossy-room.toml", "lightguide/lightguide.toml"] {
+    for scene in ["glass-plate/glass-plate.toml", "glossy-room/glossy-room.toml"] {
         let path = shipped(scene);
         let reference = render_file(&path, &pt_ov(32, 24, 8192, 1));
         let ov = quasar::render::job::JobOverrides {
@@ -133,4 +142,9 @@ fn auto_at_default_settings_converges_on_the_shipped_scenes() {
         assert_eq!(img.image.meta("method"), Some("adaptive+quasi"), "{scene}");
         assert_converges(&format!("{scene} auto"), &img, &reference, &[Quantity::Beauty]);
     }
+    // the lightguide's pick, which the particle-tracer check relies on
+    let ov = quasar::render::job::JobOverrides { width: Some(8), height: Some(6), ..Default::default() }
+        .with_param("iterations", 1u32);
+    let img = render_file(&shipped("lightguide/lightguide.toml"), &ov);
+    assert_eq!(img.image.meta("method"), Some("adaptive+quasi"), "lightguide");
 }
