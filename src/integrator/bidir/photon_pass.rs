@@ -217,7 +217,13 @@ fn trace_photon(
     let mut caustic = true;
     let mut specular_only = true;
     let mut lookups = 0;
+    // the last hit's arrival, pushed just before the photon's next ray is traced (the two are
+    // independent: as a camera path's shadow ray, docs/architecture.md §7.2), in hit order
+    let mut pending: Option<(glam::Vec3, glam::Vec3, Arrival)> = None;
     for bounce in 0..MAX_BOUNCES {
+        if let Some((p, ng, arrival)) = pending.take() {
+            pipeline.push(p, ng, arrival, gatherer);
+        }
         let Some(si) = scene.intersect(&ray) else { break };
         let bsdf = scene.bsdf_at(&si, &mut wl);
         let wi_photon = -ray.dir;
@@ -235,7 +241,7 @@ fn trace_photon(
                 cos_hit: cos_in.abs(),
                 beta,
             };
-            pipeline.push(si.p, si.ng, arrival, gatherer);
+            pending = Some((si.p, si.ng, arrival));
         }
         let frame = si.frame();
         let wo_local = frame.to_local(wi_photon);
@@ -268,6 +274,9 @@ fn trace_photon(
             }
             beta = rel * beta0;
         }
+    }
+    if let Some((p, ng, arrival)) = pending {
+        pipeline.push(p, ng, arrival, gatherer);
     }
     lookups
 }
