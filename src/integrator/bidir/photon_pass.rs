@@ -217,8 +217,8 @@ fn trace_photon(
     let mut caustic = true;
     let mut specular_only = true;
     let mut lookups = 0;
-    // the last hit's arrival, pushed just before the photon's next ray is traced (the two are
-    // independent: as a camera path's shadow ray, docs/architecture.md §7.2), in hit order
+    // the last hit's arrival, pushed just before the photon's next ray is traced, as a camera
+    // path's shadow ray is (docs/architecture.md §7.2; measured faster), still in hit order
     let mut pending: Option<(glam::Vec3, glam::Vec3, Arrival)> = None;
     for bounce in 0..MAX_BOUNCES {
         if let Some((p, ng, arrival)) = pending.take() {
