@@ -14,13 +14,16 @@ pub(crate) struct V<const W: usize> {
 }
 
 impl<const W: usize> V<W> {
+    /// The zero vector in every lane.
     pub(crate) const ZERO: Self = Self { x: [0.0; W], y: [0.0; W], z: [0.0; W] };
 
+    /// Stores `v` in lane `i`.
     #[inline(always)]
     pub(crate) fn set(&mut self, i: usize, v: Vec3) {
         (self.x[i], self.y[i], self.z[i]) = (v.x, v.y, v.z);
     }
 
+    /// The vector of lane `i`.
     #[inline(always)]
     pub(crate) fn get(&self, i: usize) -> Vec3 {
         Vec3::new(self.x[i], self.y[i], self.z[i])
@@ -57,7 +60,8 @@ pub(crate) struct LaneRng<const W: usize> {
     pub(crate) inc: [u64; W],
 }
 
-pub(crate) const PCG_MULT: u64 = 6_364_136_223_846_793_005;
+/// PCG32's LCG multiplier (`rand_pcg`'s `Lcg64Xsh32`).
+const PCG_MULT: u64 = 6_364_136_223_846_793_005;
 
 impl<const W: usize> LaneRng<W> {
     /// Lane `i` starts the stream of `Sampler::new(seed, index, sample)`.
@@ -68,8 +72,9 @@ impl<const W: usize> LaneRng<W> {
         self.state[i] = state.wrapping_add(self.inc[i]).wrapping_mul(PCG_MULT).wrapping_add(self.inc[i]);
     }
 
+    /// PCG's XSH RR output of state `s`.
     #[inline(always)]
-    pub(crate) fn output(s: u64) -> u32 {
+    fn output(s: u64) -> u32 {
         let xsh = (((s >> 18) ^ s) >> 27) as u32;
         xsh.rotate_right((s >> 59) as u32)
     }

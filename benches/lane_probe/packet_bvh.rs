@@ -14,6 +14,7 @@ pub(crate) struct PacketBvh {
 }
 
 impl PacketBvh {
+    /// The BVH of `scene`'s triangles.
     pub(crate) fn new(scene: &Scene) -> Self {
         let geom = &scene.accel.geom;
         let mut idx: Vec<u32> = (0..geom.len() as u32).collect();
@@ -22,7 +23,9 @@ impl PacketBvh {
         bvh
     }
 
-    pub(crate) fn build(&mut self, scene: &Scene, node: usize, idx: &mut [u32]) {
+    /// Fills `node` with the bounds of triangles `idx`: a leaf of up to four, else two children
+    /// split at the median centroid along the widest axis.
+    fn build(&mut self, scene: &Scene, node: usize, idx: &mut [u32]) {
         let g = |i: u32| &scene.accel.geom[i as usize];
         let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
         for &i in idx.iter() {
@@ -58,14 +61,7 @@ impl PacketBvh {
 
     /// Lanes whose ray (o, d) enters node `n` at t in [0, t_max].
     #[inline(always)]
-    pub(crate) fn enter<const W: usize>(
-        &self,
-        n: usize,
-        o: &V<W>,
-        inv: &V<W>,
-        t_max: &L<W>,
-        live: &[bool; W],
-    ) -> [bool; W] {
+    fn enter<const W: usize>(&self, n: usize, o: &V<W>, inv: &V<W>, t_max: &L<W>, live: &[bool; W]) -> [bool; W] {
         let (lo, hi, _, _) = &self.nodes[n];
         let mut m = [false; W];
         for i in 0..W {
@@ -84,13 +80,7 @@ impl PacketBvh {
     /// form without it, which divides only for a triangle that some lane hits, measured slower).
     #[inline(always)]
     #[allow(clippy::type_complexity)]
-    pub(crate) fn hits<const W: usize>(
-        &self,
-        k: usize,
-        o: &V<W>,
-        d: &V<W>,
-        t_max: &L<W>,
-    ) -> ([bool; W], L<W>, L<W>, L<W>) {
+    fn hits<const W: usize>(&self, k: usize, o: &V<W>, d: &V<W>, t_max: &L<W>) -> ([bool; W], L<W>, L<W>, L<W>) {
         let (v0, e1, e2, n, _) = self.tris[k];
         let (mut m, mut tt, mut bb1, mut bb2) = ([false; W], [0.0; W], [0.0; W], [0.0; W]);
         for i in 0..W {

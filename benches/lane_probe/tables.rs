@@ -155,6 +155,7 @@ pub(crate) struct TriTable {
 }
 
 impl TriTable {
+    /// The triangles of `scene`, indexed as `Hit::prim` indexes them.
     pub(crate) fn new(scene: &Scene) -> Self {
         let g = &scene.accel.geom;
         let col = |f: &dyn Fn(&quasar::core::geometry::TriangleGeom) -> f32| g.iter().map(f).collect::<Vec<f32>>();
