@@ -23,8 +23,7 @@
 //!   packet traversal serves Mitsuba's `rtcIntersect16`); `+shadow packets` traces the shadow
 //!   rays so too;
 //! - `diffuse lanes` (Lambertian scenes without an environment): `+packets` with the light
-//!   sample, the emission weight and the BSDF sample written for lanes, without branches or
-//!   `Option`s.
+//!   sample and the BSDF sample written for lanes, without branches or `Option`s.
 //!
 //! Every variant draws the random numbers `pt` draws for the same seed, in `pt`'s order, and
 //! finds the same hits, so every variant's image mean is the same value bit for bit, and `pt`'s
