@@ -58,7 +58,7 @@ use quasar::core::sampling::{
 };
 use quasar::core::scene::Scene;
 use quasar::integrator::per_pixel::PerPixel;
-use quasar::integrator::pt::PtSettings;
+use quasar::integrator::pt::{PtSettings, russian_roulette};
 use quasar::materials::bsdf::microfacet::SMOOTH_ALPHA;
 use quasar::materials::bsdf::{DielectricBsdf, DiffuseBsdf, TrowbridgeReitz};
 use quasar::materials::spectrum::{LAMBDA_MAX, LAMBDA_MIN, SampledSpectrum, SampledWavelengths};

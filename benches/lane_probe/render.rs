@@ -18,6 +18,27 @@ pub(crate) struct Variant {
     pub(crate) diffuse_lanes: bool,
 }
 
+/// Lane `i`'s throughput times the scattering `weight`, then `pt`'s Russian roulette
+/// ([`russian_roulette`], from `PtSettings`' `rr_depth` scattering events on, with the `depth`
+/// events before this one): false when the path ends there (a non-finite throughput or the
+/// roulette), as `pt::trace` ends it.
+#[inline(always)]
+fn scatter_and_roulette<const W: usize>(
+    beta: &mut [L<W>; NW],
+    i: usize,
+    weight: SampledSpectrum,
+    eta_scale: f32,
+    depth: u32,
+    u: f32,
+) -> bool {
+    let mut b = SampledSpectrum(std::array::from_fn(|k| beta[k][i] * weight.0[k]));
+    let go = b.is_finite() && (depth + 1 < PtSettings::default().rr_depth || russian_roulette(&mut b, eta_scale, u));
+    for k in 0..NW {
+        beta[k][i] = b.0[k];
+    }
+    go
+}
+
 /// Sum of luminance over the image, from the probe at width W; `stages`, when given, receives
 /// the seconds spent in each part of the loop (the clock read costs time of its own).
 pub(crate) fn render_lanes<const W: usize>(
@@ -31,6 +52,7 @@ pub(crate) fn render_lanes<const W: usize>(
 ) -> f64 {
     let (tab, bvh, tris) = (&probe.tables, &probe.bvh, &probe.tris);
     let mode = TransportMode::Radiance;
+    let rr_depth = PtSettings::default().rr_depth;
     let (w, h) = (camera.width() as u64, camera.height() as u64);
     let jobs = w * h * spp as u64;
     let mut next = 0u64;
@@ -216,7 +238,7 @@ pub(crate) fn render_lanes<const W: usize>(
             u_b = [rng.uniform(&hit), rng.uniform(&hit)];
             let mut late = [false; W];
             for i in 0..W {
-                late[i] = hit[i] && depth[i] + 1 >= 3;
+                late[i] = hit[i] && depth[i] + 1 >= rr_depth;
             }
             let u = rng.uniform(&late);
             for i in 0..W {
@@ -237,7 +259,7 @@ pub(crate) fn render_lanes<const W: usize>(
                 }
                 u_c[i] = sampler.get_1d();
                 (u_b[0][i], u_b[1][i]) = sampler.get_2d().into();
-                u_rr[i] = if depth[i] + 1 >= 3 { sampler.get_1d() } else { 1.0 };
+                u_rr[i] = if depth[i] + 1 >= rr_depth { sampler.get_1d() } else { 1.0 };
             }
         }
         // the light choice (Walker's alias table), per lane
@@ -362,22 +384,11 @@ pub(crate) fn render_lanes<const W: usize>(
                 let black = (0..NW).all(|k| r[k][i] == 0.0);
                 let consistent = (local.z * wo_n > 0.0) == (dir.dot(n) * wo_n > 0.0);
                 let alive = side != 0.0 && !black && pdf > 0.0 && consistent;
-                let mut rr = 0.0f32;
-                for k in 0..NW {
-                    beta[k][i] *= r[k][i];
-                    rr = rr.max(beta[k][i]);
-                }
-                let rr = rr * eta_scale[i];
-                let q = (1.0 - rr).max(0.05);
-                let roulette = depth[i] + 1 >= 3 && rr < 1.0;
-                let survive = !roulette || u_rr[i] >= q;
-                let div = if roulette { 1.0 - q } else { 1.0 };
-                for k in 0..NW {
-                    beta[k][i] /= div;
-                }
+                let weight = SampledSpectrum(std::array::from_fn(|k| r[k][i]));
+                let go = scatter_and_roulette(&mut beta, i, weight, eta_scale[i], depth[i], u_rr[i]);
                 wi.set(i, dir);
                 prev_pdf[i] = pdf;
-                ending[i] = ending[i] || (hit[i] && !(alive && survive));
+                ending[i] = ending[i] || (hit[i] && !(alive && go));
                 depth[i] += 1;
             }
         } else {
@@ -455,25 +466,10 @@ pub(crate) fn render_lanes<const W: usize>(
                         eta_scale[i] *= bs.eta * bs.eta;
                     }
                 }
-                let mut rr = 0.0f32;
-                let mut finite = true;
-                for k in 0..NW {
-                    beta[k][i] *= weight.0[k];
-                    rr = rr.max(beta[k][i]);
-                    finite &= beta[k][i].is_finite();
-                }
-                // Russian roulette from the third scattering event
-                let rr = rr * eta_scale[i];
-                let q = (1.0 - rr).max(0.05);
-                let roulette = depth[i] + 1 >= 3 && rr < 1.0;
-                let survive = !roulette || u_rr[i] >= q;
-                let div = if roulette { 1.0 - q } else { 1.0 };
-                for k in 0..NW {
-                    beta[k][i] /= div;
-                }
+                let go = scatter_and_roulette(&mut beta, i, weight, eta_scale[i], depth[i], u_rr[i]);
                 wi.set(i, dir);
                 prev_pdf[i] = pdf;
-                ending[i] = ending[i] || (hit[i] && !(alive && finite && survive));
+                ending[i] = ending[i] || (hit[i] && !(alive && go));
                 depth[i] += 1;
             }
         }
