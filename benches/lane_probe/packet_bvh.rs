@@ -100,11 +100,7 @@ impl PacketBvh {
     /// The nearest hit of every live lane's ray: (scene triangle or NONE, t, b1, b2) per lane.
     #[allow(clippy::type_complexity)]
     pub(crate) fn nearest<const W: usize>(&self, o: &V<W>, d: &V<W>, live: &[bool; W]) -> ([u32; W], L<W>, L<W>, L<W>) {
-        let mut inv = V::<W>::ZERO;
-        for i in 0..W {
-            let f = |x: f32| 1.0 / if x.abs() < 1e-30 { 1e-30f32.copysign(x) } else { x };
-            (inv.x[i], inv.y[i], inv.z[i]) = (f(d.x[i]), f(d.y[i]), f(d.z[i]));
-        }
+        let inv = inverse_direction(d);
         let (mut prim, mut t_best, mut b1, mut b2) = ([NONE; W], [1e38f32; W], [0.0; W], [0.0; W]);
         let mut stack = [0u32; 64];
         let mut sp = 1;
@@ -151,11 +147,7 @@ impl PacketBvh {
 
     /// Per live lane: whether its ray is blocked before its `t_max`.
     pub(crate) fn occluded<const W: usize>(&self, o: &V<W>, d: &V<W>, t_max: &L<W>, live: &[bool; W]) -> [bool; W] {
-        let mut inv = V::<W>::ZERO;
-        for i in 0..W {
-            let f = |x: f32| 1.0 / if x.abs() < 1e-30 { 1e-30f32.copysign(x) } else { x };
-            (inv.x[i], inv.y[i], inv.z[i]) = (f(d.x[i]), f(d.y[i]), f(d.z[i]));
-        }
+        let inv = inverse_direction(d);
         let mut blocked = [false; W];
         let mut open = *live;
         let mut stack = [0u32; 64];
@@ -187,4 +179,16 @@ impl PacketBvh {
         }
         blocked
     }
+}
+
+/// 1 / d per lane and axis, a tiny component clamped to +-1e-30 first (as quasar's `SlabRay`
+/// does), so that the slab test's (bound - o) * inv never multiplies 0 by infinity.
+#[inline(always)]
+fn inverse_direction<const W: usize>(d: &V<W>) -> V<W> {
+    let mut inv = V::<W>::ZERO;
+    for i in 0..W {
+        let f = |x: f32| 1.0 / if x.abs() < 1e-30 { 1e-30f32.copysign(x) } else { x };
+        (inv.x[i], inv.y[i], inv.z[i]) = (f(d.x[i]), f(d.y[i]), f(d.z[i]));
+    }
+    inv
 }
