@@ -50,8 +50,8 @@ impl Sampler {
 pub fn uniform_sphere(u: Vec2) -> Vec3 {
     let z = 1.0 - 2.0 * u.x;
     let r = (1.0 - z * z).max(0.0).sqrt();
-    let phi = 2.0 * std::f32::consts::PI * u.y;
-    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+    let (sin_phi, cos_phi) = sin_cos_turns(u.y);
+    Vec3::new(r * cos_phi, r * sin_phi, z)
 }
 
 /// Density of [`uniform_sphere`].
@@ -68,11 +68,11 @@ pub fn uniform_triangle(u: Vec2) -> (f32, f32) {
 pub fn uniform_cone(u: Vec2, cos_max: f32) -> Vec3 {
     let cos_t = (1.0 - u.x) + u.x * cos_max;
     let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
-    let phi = 2.0 * std::f32::consts::PI * u.y;
-    Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t)
+    let (sin_phi, cos_phi) = sin_cos_turns(u.y);
+    Vec3::new(sin_t * cos_phi, sin_t * sin_phi, cos_t)
 }
 
-pub use quasar_materials::warp::{concentric_disk, cosine_hemisphere};
+pub use quasar_materials::warp::{concentric_disk, cosine_hemisphere, sin_cos_turns};
 
 /// Veach's power heuristic with beta = 2 for one sample from each of two strategies:
 /// w_a = p_a^2 / (p_a^2 + p_b^2); infinite p_a (delta) gives 1.

@@ -15,6 +15,7 @@ use crate::spectrum::{N_SPECTRUM_SAMPLES, SampledSpectrum};
 /// F = (r_par^2 + r_perp^2) / 2.
 ///
 /// Returns a value in [0, 1]; a non-positive or non-finite `eta` is treated as a perfect mirror (1).
+#[inline]
 pub fn fr_dielectric(cos_theta_i: f32, eta: f32) -> f32 {
     if !(eta.is_finite() && eta > 0.0) {
         return 1.0;
@@ -194,6 +195,44 @@ mod tests {
         }
         assert_eq!(fr_dielectric(0.7, 1.0), 0.0);
         assert_eq!(fr_dielectric(0.7, f32::NAN), 1.0);
+    }
+
+    /// The Fresnel equations in f64 with the two quotients taken separately.
+    fn fr_dielectric_reference(cos_i: f64, eta: f64) -> f64 {
+        let (c, e) = if cos_i < 0.0 { (-cos_i, 1.0 / eta) } else { (cos_i, eta) };
+        let sin2_t = (1.0 - c * c) / (e * e);
+        if sin2_t >= 1.0 {
+            return 1.0;
+        }
+        let ct = (1.0 - sin2_t).sqrt();
+        let r_par = (e * c - ct) / (e * c + ct);
+        let r_perp = (c - e * ct) / (c + e * ct);
+        0.5 * (r_par * r_par + r_perp * r_perp)
+    }
+
+    #[test]
+    fn dielectric_matches_the_fresnel_equations_in_f64_at_extreme_iors_and_angles() {
+        let etas = [1e-30f32, 1e-9, 1e-4, 0.2, 0.66, 0.999, 1.0, 1.001, 1.5, 2.4, 1e4, 1e9, 1e30];
+        let mut cosines: Vec<f32> = vec![0.0, 1e-7, 1e-4, 0.01, 0.1, 0.3, 0.5, 0.7, 0.9, 0.99, 0.999_999, 1.0];
+        cosines.extend((1..100).map(|k| k as f32 / 100.0));
+        for &eta in &etas {
+            for &c in &cosines {
+                for c in [c, -c] {
+                    let f = fr_dielectric(c, eta);
+                    // the reference at the f32 inputs; near the critical angle f32's sin^2 t is
+                    // decided by rounding, so compare where both sides agree on the regime
+                    let r = fr_dielectric_reference(c as f64, eta as f64);
+                    assert!((0.0..=1.0).contains(&f), "eta {eta} cos {c}: {f}");
+                    let near_critical = {
+                        let (cc, e) = if c < 0.0 { (-c as f64, 1.0 / eta as f64) } else { (c as f64, eta as f64) };
+                        ((1.0 - cc * cc) / (e * e) - 1.0).abs() < 1e-5
+                    };
+                    if !near_critical {
+                        assert!((f as f64 - r).abs() < 2e-5, "eta {eta} cos {c}: {f} vs {r}");
+                    }
+                }
+            }
+        }
     }
 
     #[test]

@@ -7,7 +7,7 @@
 //! terms are written with a(w) = sqrt(cos^2 + alpha^2 sin^2) = |cos| (1 + 2 Lambda(w)), which
 //! stays finite at grazing angles where tan(theta) overflows.
 
-use std::f32::consts::{PI, TAU};
+use std::f32::consts::PI;
 
 use glam::{Vec2, Vec3};
 
@@ -165,9 +165,9 @@ impl TrowbridgeReitz {
         let t2 = wh.cross(t1);
         // Uniform point on the unit disk (polar map).
         let r = u.x.clamp(0.0, 1.0).sqrt();
-        let phi = TAU * u.y;
-        let px = r * phi.cos();
-        let mut py = r * phi.sin();
+        let (sin_phi, cos_phi) = crate::warp::sin_cos_turns(u.y);
+        let px = r * cos_phi;
+        let mut py = r * sin_phi;
         // Squash the half-disk hidden from wh.
         let h = (1.0 - px * px).max(0.0).sqrt();
         let s = 0.5 * (1.0 + wh.z);
