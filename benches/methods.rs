@@ -33,7 +33,8 @@ fn photon_throughput(scene_path: &str) {
                 depth: GatherDepth::Fixed(depth),
                 ..VismapSettings::default()
             };
-            let mut method = Bidirectional::new(&scene, &camera, settings, 1, (0, 1));
+            let isa = quasar::core::isa::Isa::best();
+            let mut method = Bidirectional::new(&scene, &camera, settings, 1, (0, 1), isa);
             let opts = DriverOptions { units: settings.iterations, threads: Some(threads), ..Default::default() };
             let t = Instant::now();
             let result = driver::run(&mut method, &scene, &camera, &opts).expect("render runs");

@@ -17,6 +17,15 @@ pub fn parse_masking(s: &str) -> Result<quasar_materials::Masking, String> {
         .ok_or_else(|| format!("expected one of {}, got {s:?}", quasar_materials::Masking::NAMES.join(", ")))
 }
 
+/// `--isa`: an instruction set of the render kernels, or None for `auto`.
+#[derive(Clone, Copy, Debug)]
+pub struct IsaArg(pub Option<quasar::core::isa::Isa>);
+
+/// Parses `--isa` (`auto`, `baseline`, `x86-64-v3`; one this CPU lacks is refused).
+pub fn parse_isa(s: &str) -> Result<IsaArg, String> {
+    quasar::core::isa::Isa::from_name(s).map(IsaArg)
+}
+
 /// Parses `K/N` for `--shard`.
 pub fn parse_shard(s: &str) -> Result<(u32, u32), String> {
     let (k, n) = s.split_once('/').ok_or("expected K/N, e.g. 0/4")?;

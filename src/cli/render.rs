@@ -17,8 +17,8 @@ use quasar_importers::ImportOptions;
 use quasar_materials::spectrum::{LAMBDA_MAX, LAMBDA_MIN};
 
 use super::parse::{
-    parse_exposure, parse_masking, parse_positive, parse_range, parse_shard, parse_threads, parse_time_code,
-    parse_units, same_file,
+    IsaArg, parse_exposure, parse_isa, parse_masking, parse_positive, parse_range, parse_shard, parse_threads,
+    parse_time_code, parse_units, same_file,
 };
 
 /// The arguments of `quasar render`.
@@ -62,6 +62,10 @@ pub struct RenderArgs {
     /// Worker threads (default, and 0: all cores; at most 4 per core).
     #[arg(long, value_parser = parse_threads)]
     pub threads: Option<usize>,
+    /// Instruction set of the render kernels: auto (default: x86-64-v3 where the CPU has AVX2
+    /// and FMA, else the portable baseline), baseline or x86-64-v3. Both give the same image.
+    #[arg(long, value_name = "ISA", default_value = "auto", value_parser = parse_isa)]
+    pub isa: IsaArg,
     /// Seed of the random streams.
     #[arg(long)]
     pub seed: Option<u64>,
@@ -206,6 +210,7 @@ pub fn render(args: RenderArgs) -> Result<ExitCode> {
         width,
         height,
         threads,
+        isa,
         seed,
         params,
         shard,
@@ -252,6 +257,7 @@ pub fn render(args: RenderArgs) -> Result<ExitCode> {
         masking,
         illuminance_samples,
         spectral_bins,
+        isa: isa.0,
     };
     let exr = output.unwrap_or_else(|| {
         PathBuf::from(scene.file_stem().map_or("out".into(), |s| s.to_string_lossy().into_owned()) + ".exr")

@@ -37,12 +37,13 @@ pub static DIRECT: MethodEntry = MethodEntry {
     bytes_per_pixel: super::per_pixel::PER_PIXEL_BYTES_PER_PIXEL,
     build: |b, r| {
         let max_specular = r.int(&MAX_DEPTH)?.map_or(DEFAULT_MAX_SPECULAR, |d| d as u32);
-        let method = PerPixel::new(b.scene, b.camera, DirectLighting { max_specular }, b.seed, b.shard);
+        let method = PerPixel::new(b.scene, b.camera, DirectLighting { max_specular }, b.seed, b.shard, b.isa);
         Ok(Built { method: Box::new(method), units: b.spp })
     },
 };
 
 impl PixelEstimator for DirectLighting {
+    #[inline(always)]
     fn radiance(
         &self,
         scene: &Scene,

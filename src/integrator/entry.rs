@@ -19,6 +19,8 @@ pub struct Build<'s> {
     /// Samples per pixel asked for (`--spp` or the scene's; a cap when time or an error target
     /// ends the render).
     pub spp: u32,
+    /// Instruction set of the render kernels (checked to be available on this CPU).
+    pub isa: crate::core::isa::Isa,
 }
 
 /// A method ready to render.

@@ -11,9 +11,10 @@ use rayon::prelude::*;
 use super::pass::{PassControl, PassEnd, RenderMethod};
 use crate::core::camera::Camera;
 use crate::core::geometry::Ray;
+use crate::core::isa::Isa;
 use crate::core::sampling::Sampler;
 use crate::core::scene::Scene;
-use crate::film::{Film, LayeredRadiance};
+use crate::film::{Film, FilmRow, LayeredRadiance};
 
 /// Peak memory per pixel of the per-pixel methods (`pt`, `direct`): 319 bytes measured on every
 /// shipped scene (BENCHMARKS.md "Memory per pixel"), plus 25%.
@@ -37,16 +38,18 @@ pub struct PerPixel<'s, E> {
     estimator: E,
     seed: u64,
     shard: (u32, u32),
+    isa: Isa,
 }
 
 impl<'s, E: PixelEstimator> PerPixel<'s, E> {
-    /// The method of `estimator` over `camera`'s image, for render share `shard` = (K, N).
-    pub fn new(scene: &'s Scene, camera: &'s Camera, estimator: E, seed: u64, shard: (u32, u32)) -> Self {
-        Self { scene, camera, estimator, seed, shard: (shard.0, shard.1.max(1)) }
+    /// The method of `estimator` over `camera`'s image, for render share `shard` = (K, N), its
+    /// kernel compiled for `isa`.
+    pub fn new(scene: &'s Scene, camera: &'s Camera, estimator: E, seed: u64, shard: (u32, u32), isa: Isa) -> Self {
+        Self { scene, camera, estimator, seed, shard: (shard.0, shard.1.max(1)), isa }
     }
 
     /// One sample of pixel (x, y) with global sample index `s`.
-    #[inline]
+    #[inline(always)]
     fn sample(&self, x: u32, y: u32, s: u32) -> (LayeredRadiance, SampledWavelengths) {
         let index = y as u64 * self.camera.width() as u64 + x as u64;
         let mut sampler = Sampler::new(self.seed, index, s as u64);
@@ -55,6 +58,19 @@ impl<'s, E: PixelEstimator> PerPixel<'s, E> {
         let ray = self.camera.ray(Vec2::new(x as f32, y as f32) + jitter);
         let l = self.estimator.radiance(self.scene, ray, &mut wl, &mut sampler);
         (l, wl)
+    }
+
+    /// The samples `first..first + count` of every pixel of image row `y`, added to `row`: the
+    /// pass's kernel, compiled once per instruction set ([`crate::core::isa`]).
+    #[inline(always)]
+    fn row(&self, row: &mut FilmRow<'_>, y: u32, first: u32, count: u32) {
+        let (k, n) = self.shard;
+        for x in 0..row.width() {
+            for s in first..first + count {
+                let (l, wl) = self.sample(x as u32, y, k + n * s);
+                row.add(x, &l, &wl);
+            }
+        }
     }
 }
 
@@ -69,7 +85,6 @@ impl<E: PixelEstimator> RenderMethod for PerPixel<'_, E> {
 
     fn render_pass(&mut self, film: &mut Film, first: u32, count: u32, control: &PassControl) -> PassEnd {
         let w = self.camera.width() as usize;
-        let (k, n) = self.shard;
         let this = &*self;
         let skipped: usize = film
             .rows_mut()
@@ -82,12 +97,10 @@ impl<E: PixelEstimator> RenderMethod for PerPixel<'_, E> {
                 if (control.stop)() {
                     return 1;
                 }
-                for x in 0..row.width() {
-                    for s in first..first + count {
-                        let (l, wl) = this.sample(x as u32, y as u32, k + n * s);
-                        row.add(x, &l, &wl);
-                    }
-                }
+                this.isa.run(
+                    #[inline(always)]
+                    || this.row(&mut row, y as u32, first, count),
+                );
                 (control.progress)(w as u64 * count as u64);
                 0
             })

@@ -48,11 +48,12 @@ pub static PT: MethodEntry = MethodEntry {
     bytes_per_pixel: super::per_pixel::PER_PIXEL_BYTES_PER_PIXEL,
     build: |b, r| {
         let settings = PtSettings { max_depth: r.int(&MAX_DEPTH)?.map(|d| d as u32), ..PtSettings::default() };
-        Ok(Built { method: Box::new(PerPixel::new(b.scene, b.camera, settings, b.seed, b.shard)), units: b.spp })
+        Ok(Built { method: Box::new(PerPixel::new(b.scene, b.camera, settings, b.seed, b.shard, b.isa)), units: b.spp })
     },
 };
 
 impl super::per_pixel::PixelEstimator for PtSettings {
+    #[inline(always)]
     fn radiance(&self, scene: &Scene, ray: Ray, wl: &mut SampledWavelengths, sampler: &mut Sampler) -> LayeredRadiance {
         radiance(scene, ray, wl, sampler, self)
     }
@@ -109,6 +110,7 @@ impl PathState {
 
 /// Traces one camera path and returns its layered radiance at the (possibly terminated)
 /// wavelengths `wl`.
+#[inline(always)]
 pub fn radiance(
     scene: &Scene,
     ray: Ray,
@@ -126,6 +128,7 @@ pub fn radiance(
 /// what it finds to `out`. The bidirectional methods call it where their own estimator ends
 /// a path for a reason other than the estimate itself (a cap on gather points or specular
 /// events), so that no light is lost there (docs/architecture.md §7.5).
+#[inline(always)]
 pub fn trace(
     scene: &Scene,
     mut ray: Ray,

@@ -9,6 +9,7 @@ use quasar_importers::{ImportOptions, SceneDesc, import_scene};
 
 use super::driver::{self, DriverOptions, RenderResult};
 use crate::core::camera::Camera;
+use crate::core::isa::Isa;
 use crate::core::scene::Scene;
 use crate::film::{Channel, SpectralBins};
 use crate::integrator::method::{Build, Built, MethodChoice, all_params, instantiate};
@@ -60,6 +61,8 @@ pub struct JobOverrides {
     pub illuminance_samples: Option<u32>,
     /// Write the beauty's spectral radiance in these bins as `S0.<lambda>nm` channels.
     pub spectral_bins: Option<SpectralBins>,
+    /// Instruction set of the render kernels (None: the best this CPU runs).
+    pub isa: Option<Isa>,
 }
 
 impl JobOverrides {
@@ -127,6 +130,10 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     let known: Vec<&str> = all_params().iter().map(|p| p.key).collect();
     let params = ov.params.over_scene(&r.params, r.unit, &known).map_err(anyhow::Error::msg)?;
 
+    let isa = ov.isa.unwrap_or_else(Isa::best);
+    if !isa.available() {
+        bail!("this CPU lacks the instruction set {} asked for", isa.name());
+    }
     let mut scene = Scene::compile(desc).context("compiling the scene")?;
     scene.masking = ov.masking.unwrap_or(r.masking);
     let camera = Camera::new(&desc.camera, width, height).with_context(|| desc.source.display().to_string())?;
@@ -145,6 +152,7 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         seed,
         shard,
         spp: if open_ended { ov.spp.unwrap_or(u32::MAX / 2) } else { spp },
+        isa,
     };
     let Built { mut method, units } = instantiate(entry, &params, &build).map_err(anyhow::Error::msg)?;
     // what must match for a resume: the scene and every setting but the sample budget (the
@@ -284,6 +292,7 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         ("target_error_reached".into(), target_reached.map_or("none".into(), |r| r.to_string())),
         ("estimated_rel_error".into(), format!("{estimated:.6}")),
         ("threads".into(), result.threads.to_string()),
+        ("isa".into(), isa.name().to_string()),
         ("render_time_s".into(), format!("{:.3}", result.seconds)),
     ];
     if unit_name == "iterations" {

@@ -55,6 +55,7 @@ fn covered(scene: &Scene, vp: &VisibilityPoint, frame: &Frame, side: f32, r: f32
 
 /// Covered shares (indirect disk of radius `r`, caustic disk of radius `r_caustic` <= r / 2)
 /// of the gather disks of `vp`, each at least one probe's share.
+#[inline(always)]
 pub fn disk_coverage(scene: &Scene, vp: &VisibilityPoint, r: f32, r_caustic: f32, rotation: f32) -> (f32, f32) {
     if !(r > 0.0 && r.is_finite()) {
         return (1.0, 1.0);

@@ -20,6 +20,7 @@ use super::ranges::for_each_part;
 use super::settings::VismapSettings;
 use super::visibility_point::{CameraPathResult, GatherRule, VisibilityPoint, trace_camera_path};
 use crate::core::camera::Camera;
+use crate::core::isa::Isa;
 use crate::core::sampling::{Sampler, mix64};
 use crate::core::scene::Scene;
 use crate::film::LayeredRadiance;
@@ -92,6 +93,8 @@ pub struct Iteration {
     pub n_photons: u64,
     /// What the photon pass keeps: the sums of an iteration, or the counts of the radius pilot.
     pub record: PhotonRecord,
+    /// Instruction set of the camera-path, photon and coverage kernels.
+    pub isa: Isa,
 }
 
 /// What [`Iteration::run`] produced. A render keeps one and hands it to every iteration, which
@@ -232,19 +235,25 @@ impl Iteration {
             batch.paths.reserve(CAMERA_BATCH);
             batch.points.reserve(CAMERA_BATCH);
             let pixels = b * CAMERA_BATCH..((b + 1) * CAMERA_BATCH).min(depths.len());
-            for (i, depth) in pixels.clone().zip(&depths[pixels]) {
-                let mut sampler = Sampler::new(self.seed, i as u64, self.k as u64);
-                let film_pos = Vec2::new((i % w) as f32, (i / w) as f32) + sampler.get_2d();
-                let rule = GatherRule { depth: depth.unwrap_or(0), ..*base_rule };
-                batch.paths.push(trace_camera_path(
-                    scene,
-                    camera.ray(film_pos),
-                    self.wl,
-                    &mut sampler,
-                    &rule,
-                    &mut batch.points,
-                ));
-            }
+            // the camera-path kernel, compiled once per instruction set (core::isa)
+            self.isa.run(
+                #[inline(always)]
+                || {
+                    for (i, depth) in pixels.clone().zip(&depths[pixels]) {
+                        let mut sampler = Sampler::new(self.seed, i as u64, self.k as u64);
+                        let film_pos = Vec2::new((i % w) as f32, (i / w) as f32) + sampler.get_2d();
+                        let rule = GatherRule { depth: depth.unwrap_or(0), ..*base_rule };
+                        batch.paths.push(trace_camera_path(
+                            scene,
+                            camera.ray(film_pos),
+                            self.wl,
+                            &mut sampler,
+                            &rule,
+                            &mut batch.points,
+                        ));
+                    }
+                },
+            );
         });
         batch_first_point.clear();
         batch_first_point.push(0);
@@ -302,6 +311,7 @@ impl Iteration {
             self.k,
             *base_rule,
             self.record,
+            self.isa,
             photons,
         );
         lap(&mut seconds.photons);
@@ -314,7 +324,10 @@ impl Iteration {
                 let rotation = (mix64(self.seed ^ mix64(((self.k as u64) << 40) ^ j as u64)) >> 40) as f32
                     * (std::f32::consts::TAU / (1u64 << 24) as f32);
                 let disk = &disks[j];
-                (c.indirect, c.caustic) = disk_coverage(scene, &points[j], disk.indirect, disk.caustic, rotation);
+                (c.indirect, c.caustic) = self.isa.run(
+                    #[inline(always)]
+                    || disk_coverage(scene, &points[j], disk.indirect, disk.caustic, rotation),
+                );
             });
         lap(&mut seconds.coverage);
         out.grid_bytes = out.grid.memory_bytes();
@@ -328,26 +341,23 @@ impl Iteration {
 /// a disk holds about that many photons; dim pixels keep the default (scale 1). The
 /// photon-mapping bias grows with the radius squared, so many photons per iteration buy a
 /// small radius instead of a needlessly precise blur. Every shard computes the same pilot.
-/// Its photon pass only counts ([`PhotonRecord::Counts`]), and it runs in the render's own
-/// lists `r`, which the first iteration then refills instead of growing a second set.
-#[allow(clippy::too_many_arguments)]
+/// `it` is the pilot iteration (k = 0): its photon pass only counts ([`PhotonRecord::Counts`]),
+/// and it runs in the render's own lists `r`, which the first iteration then refills instead
+/// of growing a second set.
 pub fn radius_pilot<'s>(
     scene: &'s Scene,
     camera: &Camera,
     settings: &VismapSettings,
     base_rule: &GatherRule,
     depths: &[Option<u32>],
-    seed: u64,
-    photon_seed: u64,
-    n_photons: u64,
+    it: Iteration,
     r: &mut IterationResult<'s>,
 ) -> Vec<f32> {
     if settings.radius.is_some() {
         return vec![1.0; depths.len()];
     }
-    let wl = SampledWavelengths::sample_visible(iteration_wavelength_u(seed, 0));
+    debug_assert!(it.k == 0 && it.record == PhotonRecord::Counts);
     let pixel_angle = camera.pixel_solid_angle().sqrt();
-    let it = Iteration { seed, photon_seed, k: 0, wl, n_photons, record: PhotonRecord::Counts };
     let radius_of = |_: usize, vp: &VisibilityPoint| settings.radius_pixels * pixel_angle * vp.footprint_distance;
     it.run(scene, camera, settings, base_rule, depths, radius_of, r);
     // photons per fully covered disk
@@ -456,6 +466,7 @@ mod tests {
                 wl: SampledWavelengths::sample_visible(0.3),
                 n_photons: 20_000,
                 record,
+                isa: Isa::best(),
             };
             let mut r = IterationResult::default();
             it.run(&scene, &camera, &VismapSettings::default(), &rule, &depths, |_, _| 0.1, &mut r);

@@ -131,7 +131,10 @@ fn build<'s>(b: &Build<'s>, r: &ParamReader, adaptive: bool, quasi: bool) -> Res
     let s = settings(r, adaptive, quasi, b.spp)?;
     // the kappa table, made here with every core before the passes read it
     b.scene.non_uniformity();
-    Ok(Built { units: s.iterations, method: Box::new(Bidirectional::new(b.scene, b.camera, s, b.seed, b.shard)) })
+    Ok(Built {
+        units: s.iterations,
+        method: Box::new(Bidirectional::new(b.scene, b.camera, s, b.seed, b.shard, b.isa)),
+    })
 }
 
 /// `vismap`.

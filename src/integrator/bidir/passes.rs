@@ -18,6 +18,7 @@ use super::settings::{GatherDepth, VismapSettings};
 use super::visibility_point::{GatherRule, VisibilityPoint};
 use crate::core::bytes::{ByteReader, ByteWriter};
 use crate::core::camera::Camera;
+use crate::core::isa::Isa;
 use crate::core::sampling::mix64;
 use crate::core::scene::Scene;
 use crate::film::{Channel, Film};
@@ -47,6 +48,7 @@ pub struct Bidirectional<'s> {
     settings: VismapSettings,
     seed: u64,
     shard: (u32, u32),
+    isa: Isa,
     rule: GatherRule,
     n_photons: u64,
     depths: GatherDepths,
@@ -63,8 +65,16 @@ pub struct Bidirectional<'s> {
 }
 
 impl<'s> Bidirectional<'s> {
-    /// A render of `settings` over `camera`'s image, for share `shard` = (K, N).
-    pub fn new(scene: &'s Scene, camera: &'s Camera, settings: VismapSettings, seed: u64, shard: (u32, u32)) -> Self {
+    /// A render of `settings` over `camera`'s image, for share `shard` = (K, N), its kernels
+    /// compiled for `isa`.
+    pub fn new(
+        scene: &'s Scene,
+        camera: &'s Camera,
+        settings: VismapSettings,
+        seed: u64,
+        shard: (u32, u32),
+        isa: Isa,
+    ) -> Self {
         let pixels = camera.width() as usize * camera.height() as usize;
         let cone_cos = settings.cone_deg.map(|d| d.clamp(0.0, 90.0).to_radians().cos());
         Self {
@@ -80,6 +90,7 @@ impl<'s> Bidirectional<'s> {
             settings,
             seed,
             shard: (shard.0, shard.1.max(1)),
+            isa,
             depths: GatherDepths::new(pixels),
             radius_scales: None,
             first_depths: None,
@@ -111,9 +122,15 @@ impl<'s> Bidirectional<'s> {
                 &settings,
                 &rule,
                 &first,
-                seed,
-                self.photon_seed(),
-                self.n_photons,
+                Iteration {
+                    seed,
+                    photon_seed: self.photon_seed(),
+                    k: 0,
+                    wl: wl_of(0),
+                    n_photons: self.n_photons,
+                    record: PhotonRecord::Counts,
+                    isa: self.isa,
+                },
                 &mut self.result,
             );
             self.radius_scales = Some(scales);
@@ -149,6 +166,7 @@ impl<'s> Bidirectional<'s> {
             wl: self.wavelengths(k),
             n_photons,
             record: PhotonRecord::Sums,
+            isa: self.isa,
         };
         let t = Instant::now();
         let result = &mut self.result;

@@ -17,6 +17,7 @@ use super::quasi_cone::QuasiCone;
 use super::ranges::ByRange;
 use super::visibility_point::{GatherRule, VisibilityPoint};
 use crate::core::geometry::Ray;
+use crate::core::isa::Isa;
 use crate::core::sampling::Sampler;
 use crate::core::scene::Scene;
 use crate::integrator::pt::russian_roulette;
@@ -119,6 +120,7 @@ pub fn trace_photons(
     iteration: u32,
     rule: GatherRule,
     record: PhotonRecord,
+    isa: Isa,
     out: &mut PhotonPassResult,
 ) {
     let n_chunks = n_photons.div_ceil(CHUNK as u64) as usize;
@@ -132,14 +134,20 @@ pub fn trace_photons(
             .map(|c| {
                 let mut gatherer = PhotonCounts { counts: &counts, points, sides: &sides };
                 let mut pipeline = LookupPipeline::new(disks, grid);
-                let n = photons_of(c)
-                    .map(|i| {
-                        let mut sampler = Sampler::new(seed, i, iteration as u64);
-                        trace_photon(scene, wl, rule, &mut sampler, &mut pipeline, &mut gatherer)
-                    })
-                    .sum::<u64>();
-                pipeline.finish(&mut gatherer);
-                n
+                // the photon kernel, compiled once per instruction set (core::isa)
+                isa.run(
+                    #[inline(always)]
+                    || {
+                        let n = photons_of(c)
+                            .map(|i| {
+                                let mut sampler = Sampler::new(seed, i, iteration as u64);
+                                trace_photon(scene, wl, rule, &mut sampler, &mut pipeline, &mut gatherer)
+                            })
+                            .sum::<u64>();
+                        pipeline.finish(&mut gatherer);
+                        n
+                    },
+                )
             })
             .sum();
         out.sums.clear();
@@ -160,11 +168,17 @@ pub fn trace_photons(
             chunk.lookups = 0;
             let mut gatherer = Deposits { list: deposits, points, point_wl };
             let mut pipeline = LookupPipeline::new(disks, grid);
-            for i in photons_of(c) {
-                let mut sampler = Sampler::new(seed, i, iteration as u64);
-                chunk.lookups += trace_photon(scene, wl, rule, &mut sampler, &mut pipeline, &mut gatherer);
-            }
-            pipeline.finish(&mut gatherer);
+            // the photon kernel, compiled once per instruction set (core::isa)
+            isa.run(
+                #[inline(always)]
+                || {
+                    for i in photons_of(c) {
+                        let mut sampler = Sampler::new(seed, i, iteration as u64);
+                        chunk.lookups += trace_photon(scene, wl, rule, &mut sampler, &mut pipeline, &mut gatherer);
+                    }
+                    pipeline.finish(&mut gatherer);
+                },
+            );
             chunk.grouped.regroup(deposits, n_ranges, |d| d.point as usize / range);
         });
     });
@@ -195,6 +209,7 @@ pub fn trace_photons(
 /// One photon path, its hits after >= 1 bounce looked up in `pipeline` (whose accepted
 /// arrivals go to `gatherer`, in hit order, some of them during later photons' paths). Returns
 /// the number of grid look-ups started.
+#[inline(always)]
 fn trace_photon(
     scene: &Scene,
     wl_iteration: &SampledWavelengths,

@@ -133,6 +133,7 @@ fn direct_by_bsdf_sample(
 /// continued from there as the path tracer ([`pt::trace`]) so that the light from C there is
 /// not lost (docs/architecture.md §7.5: no path is cut by a cap). The visibility points are
 /// appended to `points`.
+#[inline(always)]
 pub fn trace_camera_path<'s>(
     scene: &'s Scene,
     mut ray: Ray,
