@@ -20,6 +20,7 @@ pub mod methods;
 pub mod passes;
 pub mod photon_pass;
 pub mod quasi_cone;
+pub mod radius_pilot;
 mod ranges;
 pub mod settings;
 pub mod visibility_point;

@@ -10,10 +10,9 @@ use std::time::Instant;
 use quasar_materials::spectrum::SampledWavelengths;
 
 use super::adaptive_depth::GatherDepths;
-use super::iteration::{
-    Iteration, IterationResult, PhaseSeconds, iteration_wavelength_u, radius_pilot, radius2_factor,
-};
+use super::iteration::{Iteration, IterationResult, PhaseSeconds, iteration_wavelength_u, radius2_factor};
 use super::photon_pass::PhotonRecord;
+use super::radius_pilot::radius_pilot;
 use super::settings::{GatherDepth, VismapSettings};
 use super::visibility_point::{GatherRule, VisibilityPoint};
 use crate::core::bytes::{ByteReader, ByteWriter};
