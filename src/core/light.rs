@@ -274,6 +274,7 @@ impl Light {
 
     /// Radiance reaching a ray that escapes the scene in direction `w` (environment only;
     /// directional lights cannot be hit).
+    #[inline]
     pub fn le_escaped(&self, w: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
         match self {
             Self::Environment { spectrum, scale, map, .. } => {

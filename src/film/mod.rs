@@ -205,7 +205,7 @@ impl FilmRow<'_> {
     /// Adds one sample to pixel `x` of the row: its layers ([`PixelSum::add`], whose per-quantity
     /// luminance it returns) and, unless the sample was rejected as non-finite, the beauty's
     /// spectral bins.
-    #[inline]
+    #[inline(always)]
     pub fn add(&mut self, x: usize, l: &LayeredRadiance, wl: &SampledWavelengths) -> [f64; N_QUANTITIES] {
         let px = &mut self.pixels[x];
         let rejected = px.rejected;

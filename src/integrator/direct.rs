@@ -155,7 +155,7 @@ pub fn emitted_at_hit(
 
 /// MIS-weighted radiance of the lights at infinity seen by a ray that left `prev` in direction
 /// `dir` and escaped.
-#[inline]
+#[inline(always)]
 pub fn escaped_radiance(scene: &Scene, prev: &PrevVertex, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
     let mut sum = SampledSpectrum::zero();
     for &i in &scene.infinite_lights {

@@ -300,6 +300,7 @@ impl SampledWavelengths {
 
     /// The per-wavelength factors of [`to_xyz`](Self::to_xyz), to convert several estimates at
     /// these wavelengths (a sample's layers) with one colour-matching look-up per wavelength.
+    #[inline]
     pub fn xyz_weights(&self) -> XyzWeights {
         let norm = 1.0 / (N_SPECTRUM_SAMPLES as f32 * cie::CIE_Y_INTEGRAL);
         let lanes = if self.secondary_terminated() { 1 } else { N_SPECTRUM_SAMPLES };
