@@ -332,6 +332,7 @@ fn bad_numbers_on_the_command_line_are_refused() {
         (&["--time", "0"][..], "positive"),
         (&["--target-error", "0"][..], "positive"),
         (&["--threads", "100000"][..], "per core"),
+        (&["--isa", "avx9"][..], "x86-64-v3"),
     ] {
         let (status, stderr) = render_cli(&s.path, &out, args);
         assert_eq!(status.code(), Some(2), "{args:?}: {stderr}");
@@ -341,6 +342,20 @@ fn bad_numbers_on_the_command_line_are_refused() {
     // 0 threads means all cores
     let (status, stderr) = render_cli(&s.path, &out, ["--threads", "0"]);
     assert!(status.success(), "{stderr}");
+}
+
+/// `--isa baseline` runs the portable kernels and says so in the header; `auto` runs the best
+/// the CPU has.
+#[test]
+fn the_instruction_set_of_the_kernels_is_chosen_on_the_command_line_and_recorded() {
+    let s = write_scene(GOOD, &[]);
+    let out = s.dir.path().join("out.exr");
+    for (arg, want) in [("baseline", "baseline"), ("auto", quasar::core::isa::Isa::best().name())] {
+        let (status, stderr) = render_cli(&s.path, &out, ["--isa", arg]);
+        assert!(status.success(), "{stderr}");
+        let img = quasar::output::read_exr(&out).unwrap();
+        assert!(img.metadata.iter().any(|(k, v)| k == "isa" && v == want), "--isa {arg}: {:?}", img.metadata);
+    }
 }
 
 /// Spectral bins outside the sampled range, too many or none, and a range without bins, are
