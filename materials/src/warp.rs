@@ -7,13 +7,23 @@ use glam::{Vec2, Vec3};
 
 /// (sin a, cos a) for |a| <= pi/4 by their Taylor polynomials to a^9 and a^10, whose
 /// truncation errors there, (pi/4)^11 / 11! and (pi/4)^12 / 12!, are below 2e-9: as accurate
-/// as f32 allows, without a call into libm.
+/// as f32 allows, without a call into libm. Evaluated in Estrin's scheme (pairs of terms in
+/// a^2 combined by powers a^4, a^8) rather than Horner's: the sampled direction is on the
+/// path's critical chain (it is the next ray), and Estrin's dependency chain is half as long.
 #[inline]
 fn sin_cos_quarter(a: f32) -> (f32, f32) {
     let a2 = a * a;
-    let s = a * (1.0 + a2 * (-1.0 / 6.0 + a2 * (1.0 / 120.0 + a2 * (-1.0 / 5040.0 + a2 * (1.0 / 362_880.0)))));
-    let c =
-        1.0 + a2 * (-0.5 + a2 * (1.0 / 24.0 + a2 * (-1.0 / 720.0 + a2 * (1.0 / 40_320.0 + a2 * (-1.0 / 3_628_800.0)))));
+    let a4 = a2 * a2;
+    let a8 = a4 * a4;
+    // sin a / a = 1 - a^2/3! + a^4/5! - a^6/7! + a^8/9!
+    let s01 = 1.0 - a2 * (1.0 / 6.0);
+    let s23 = 1.0 / 120.0 - a2 * (1.0 / 5040.0);
+    let s = a * ((s01 + a4 * s23) + a8 * (1.0 / 362_880.0));
+    // cos a = 1 - a^2/2! + a^4/4! - a^6/6! + a^8/8! - a^10/10!
+    let c01 = 1.0 - a2 * 0.5;
+    let c23 = 1.0 / 24.0 - a2 * (1.0 / 720.0);
+    let c45 = 1.0 / 40_320.0 - a2 * (1.0 / 3_628_800.0);
+    let c = (c01 + a4 * c23) + a8 * c45;
     (s, c)
 }
 
@@ -52,13 +62,19 @@ pub fn concentric_disk(u: Vec2) -> Vec2 {
     Vec2::new(r * along, r * across)
 }
 
-/// Cosine-weighted direction on the upper hemisphere (density cos(theta) / pi): a uniform disk
-/// point lifted to the hemisphere (Malley's method).
+/// Cosine-weighted direction on the upper hemisphere (density cos(theta) / pi): Malley's method
+/// with the polar map of the unit disk, radius sqrt(u.x) and azimuth 2 pi u.y, so that
+/// z = sqrt(1 - u.x). Its three parts (two square roots and the azimuth's sine and cosine)
+/// are independent of each other, which makes the sampled direction, the next ray of a path,
+/// ready sooner than with the concentric map (a division, then the polynomials, then the
+/// square root). The two maps differ only in how they distort strata of the unit square,
+/// and quasar's samples are independent uniforms.
 #[inline(always)]
 pub fn cosine_hemisphere(u: Vec2) -> Vec3 {
-    let d = concentric_disk(u);
-    let z = (1.0 - d.x * d.x - d.y * d.y).max(0.0).sqrt();
-    Vec3::new(d.x, d.y, z)
+    let r = u.x.max(0.0).sqrt();
+    let (s, c) = sin_cos_turns(u.y);
+    let z = (1.0 - u.x).max(0.0).sqrt();
+    Vec3::new(r * c, r * s, z)
 }
 
 #[cfg(test)]
