@@ -87,7 +87,15 @@ impl Isa {
 #[inline]
 fn has_x86_64_v3() -> bool {
     use std::arch::is_x86_feature_detected as has;
-    has!("avx2") && has!("fma") && has!("bmi1") && has!("bmi2") && has!("lzcnt") && has!("movbe") && has!("f16c")
+    // every feature `run_x86_64_v3` is compiled with
+    has!("avx2")
+        && has!("fma")
+        && has!("bmi1")
+        && has!("bmi2")
+        && has!("lzcnt")
+        && has!("movbe")
+        && has!("f16c")
+        && has!("popcnt")
 }
 
 #[cfg(not(target_arch = "x86_64"))]
