@@ -9,7 +9,7 @@ use glam::{Vec2, Vec3};
 /// truncation errors there, (pi/4)^11 / 11! and (pi/4)^12 / 12!, are below 2e-9: as accurate
 /// as f32 allows, without a call into libm. Evaluated in Estrin's scheme (pairs of terms in
 /// a^2 combined by powers a^4, a^8) rather than Horner's: the sampled direction is on the
-/// path's critical chain (it is the next ray), and Estrin's dependency chain is half as long.
+/// path's critical chain (it is the next ray), and Estrin's dependency chain is shorter.
 #[inline]
 fn sin_cos_quarter(a: f32) -> (f32, f32) {
     let a2 = a * a;
