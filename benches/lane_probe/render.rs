@@ -39,6 +39,20 @@ fn scatter_and_roulette<const W: usize>(
     go
 }
 
+/// The side of a surface a path arrives on, from wo . ng (`wo_n`), as the sign of the local z
+/// of the directions that leave it there: 1 in front, -1 behind a two-sided surface, 0 behind
+/// a one-sided one (nothing scatters).
+#[inline(always)]
+fn arrival_side(wo_n: f32, two_sided: bool) -> f32 {
+    if wo_n > 0.0 {
+        1.0
+    } else if wo_n < 0.0 && two_sided {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
 /// Sum of luminance over the image, from the probe at width W; `stages`, when given, receives
 /// the seconds spent in each part of the loop (the clock read costs time of its own).
 pub(crate) fn render_lanes<const W: usize>(
@@ -339,13 +353,7 @@ pub(crate) fn render_lanes<const W: usize>(
                 let pdf = dist2 / (cos_l * larea[i]);
                 let p_light = lsel[i] * pdf;
                 let wo_n = -(d.x[i] * ng.x[i] + d.y[i] * ng.y[i] + d.z[i] * ng.z[i]);
-                let side = if wo_n > 0.0 {
-                    1.0
-                } else if wo_n < 0.0 && mtwo[i] {
-                    -1.0
-                } else {
-                    0.0
-                };
+                let side = arrival_side(wo_n, mtwo[i]);
                 let cos_i = ng.x[i] * wx + ng.y[i] * wy + ng.z[i] * wz;
                 let p_bsdf = cos_i.abs() * FRAC_1_PI;
                 let black = (0..NW).all(|k| r[k][i] == 0.0);
@@ -369,13 +377,7 @@ pub(crate) fn render_lanes<const W: usize>(
             // 6'. the cosine-weighted BSDF sample, the throughput, Russian roulette
             for i in 0..W {
                 let wo_n = -(d.x[i] * ng.x[i] + d.y[i] * ng.y[i] + d.z[i] * ng.z[i]);
-                let side = if wo_n > 0.0 {
-                    1.0
-                } else if wo_n < 0.0 && mtwo[i] {
-                    -1.0
-                } else {
-                    0.0
-                };
+                let side = arrival_side(wo_n, mtwo[i]);
                 let mut local = cosine_hemisphere(Vec2::new(u_b[0][i], u_b[1][i]));
                 local.z *= side;
                 let n = ng.get(i);
