@@ -35,6 +35,7 @@ def main():
     ap.add_argument("--threads", type=lambda v: [int(t) for t in v.split(",")], default=[1],
                     help="thread count, or several separated by commas (1,2)")
     ap.add_argument("--masking", default="separable", help="microfacet masking (the renders' --masking)")
+    ap.add_argument("--max-depth", type=int, help="pt: at most this many scattering events (the first bounces' cost)")
     ap.add_argument("--phases", action="store_true", help="also each phase's best seconds (bidirectional methods)")
     a = ap.parse_args()
     runs = [(b, t) for b in a.binaries for t in a.threads]
@@ -42,11 +43,12 @@ def main():
     phases = {r: {} for r in runs}
     with tempfile.TemporaryDirectory() as d:
         out = os.path.join(d, "out.exr")
+        depth = [] if a.max_depth is None else ["--max-depth", str(a.max_depth)]
         for _ in range(a.runs):
             for b, t in runs:
                 subprocess.run([b, "render", a.scene, "--method", a.method, "--spp", str(a.spp), "--width",
                                 str(a.width), "--height", str(a.height), "--threads", str(t),
-                                "--masking", a.masking, "--quiet", "-o", out], check=True)
+                                "--masking", a.masking, "--quiet", "-o", out] + depth, check=True)
                 with open(out, "rb") as f:
                     header = f.read()
                 seconds = float(re.search(rb"render_time_s *= *([0-9.]+)", header).group(1))

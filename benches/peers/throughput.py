@@ -77,6 +77,8 @@ def quasar_seconds(a, binary, scene_path, spp, seed, out):
            "--spp", str(spp), "--seed", str(seed), "--masking", "separable", "--quiet", "-o", out]
     if a.threads:
         cmd += ["--threads", str(a.threads)]
+    if a.max_depth is not None:
+        cmd += ["--max-depth", str(a.max_depth)]
     subprocess.run(cmd, check=True)
     with open(out, "rb") as f:
         return float(re.search(rb"render_time_s *= *([0-9.]+)", f.read()).group(1))
@@ -95,6 +97,9 @@ def main():
     ap.add_argument("--threads", type=int, default=0, help="quasar worker threads (0: all cores, as Mitsuba)")
     ap.add_argument("--rr-depth", type=int, default=3,
                     help="Mitsuba's rr_depth (3: quasar pt's; 5: Mitsuba's default)")
+    ap.add_argument("--max-depth", type=int,
+                    help="at most this many scattering events per path (quasar's --max-depth; Mitsuba's "
+                    "max_depth counts vertices and is set to one more): the cost of the first bounces alone")
     ap.add_argument("--llvm-target", help="CPU:FEATURES:WIDTH of Dr.Jit's LLVM backend (default: the host's)")
     ap.add_argument("scenes", nargs="*", default=SCENES)
     a = ap.parse_args()
@@ -117,7 +122,12 @@ def main():
                 text = f.read()
             integrator = '<integrator type="path">'
             assert integrator in text, "the exported scene has no path integrator"
-            text = text.replace(integrator, integrator + f'<integer name="rr_depth" value="{a.rr_depth}"/>', 1)
+            extra = f'<integer name="rr_depth" value="{a.rr_depth}"/>'
+            if a.max_depth is not None:
+                unbounded = '<integer name="max_depth" value="-1"/>'
+                assert unbounded in text, "the exported scene's path integrator is not unbounded"
+                text = text.replace(unbounded, f'<integer name="max_depth" value="{a.max_depth + 1}"/>', 1)
+            text = text.replace(integrator, integrator + extra, 1)
             with open(xml, "w") as f:
                 f.write(text)
             scenes = {}
