@@ -22,7 +22,10 @@ backend compile for that CPU, instruction-set features and number of lanes inste
 symbol, called with ctypes; Dr.Jit 1.5): how much of Mitsuba's speed comes from its lanes and
 how much from the instruction set. `--quasar` likewise takes several quasar binaries separated
 by commas (`target/release/quasar,target/pgo/quasar`: the release build and the PGO build of
-`scripts/build-pgo.sh`), each rendered in every round.
+`scripts/build-pgo.sh`), each rendered in every round. `--max-depth N` limits both renderers to N
+scattering events (quasar's `--max-depth N`, Mitsuba's `max_depth` N + 1, since Mitsuba counts
+the vertices of a path), so that the camera ray and the first bounces can be compared on their
+own (BENCHMARKS.md "Eighth engine round").
 
 Not part of CI (minutes). Requires the Mitsuba venv of the cross-check:
 
