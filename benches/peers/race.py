@@ -1,5 +1,10 @@
 #!/usr/bin/env python3
-"""Equal-time race of quasar against Mitsuba 3 on the shipped scenes (issue 15, BENCHMARKS.md).
+"""Equal-time race of quasar against Mitsuba 3 on the benchmark family (issues 15 and 47, BENCHMARKS.md).
+
+The family (the default scene list): every scene of scenes/bench/ (written by
+scenes/bench/make_family.py: glass plates with every bottom finish, top roughness and lamp, an
+edge-lit light guide, glossy floors, a glass-sphere caustic, a reflector lamp, objects under a
+sky), the shipped lightguide (which Mitsuba cannot express) and the Cornell box (diffuse only).
 
 For every scene, in one run on one machine:
 
@@ -25,14 +30,17 @@ For every scene, in one run on one machine:
    biased beyond its own error bars does not count as having reached an error.
 
 `--reuse-reference` keeps a scene's `reference.exr` from an earlier run of the same size and
-reference settings (the reference takes minutes per scene).
+reference settings (the reference takes minutes per scene); `--references-only` makes them and
+stops. The end of the output is one summary table over the scenes (time to relMSE 0.01 of
+Mitsuba, `pt` and `auto`, the ratios, the z-tests) and the worst narrow-BSDF scene.
 
 Not part of CI (it takes minutes). Requires the Mitsuba venv of the cross-check:
 
     python3 -m venv target/mitsuba-venv
     target/mitsuba-venv/bin/pip install mitsuba==3.9.1 drjit==1.5.0 numpy OpenEXR
     cargo build --release
-    target/mitsuba-venv/bin/python benches/peers/race.py --budgets 10 30
+    target/mitsuba-venv/bin/python benches/peers/race.py --references-only
+    target/mitsuba-venv/bin/python benches/peers/race.py --reuse-reference
 
 The llvm variants need an LLVM shared library (Debian: `apt install libllvm19`; drjit finds
 libLLVM through DRJIT_LIBLLVM_PATH when its name is not the default).
@@ -57,12 +65,15 @@ import mitsuba as mi  # noqa: E402
 
 REL_EPS = 1e-3
 
-SCENES = [
-    "scenes/cornell-box/cornell-box.toml",
-    "scenes/glass-plate/glass-plate.toml",
-    "scenes/glossy-room/glossy-room.toml",
-    "scenes/lightguide/lightguide.toml",
-]
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
+FAMILY = sorted(
+    os.path.relpath(os.path.join(ROOT, "scenes", "bench", f), ROOT)
+    for f in os.listdir(os.path.join(ROOT, "scenes", "bench"))
+    if f.endswith(".toml")
+) + ["scenes/lightguide/lightguide.toml", "scenes/cornell-box/cornell-box.toml"]
+# Scenes of the family where no narrow lobe dominates: `auto` must match `pt` there, not beat
+# Mitsuba by the narrow-BSDF margin.
+NOT_NARROW = {"cornell-box", "sky-objects"}
 
 
 def read_y(path):
@@ -149,17 +160,18 @@ def main():
     ap.add_argument("--out", default="target/peers")
     ap.add_argument("--width", type=int, default=128)
     ap.add_argument("--height", type=int, default=128)
-    ap.add_argument("--budgets", type=float, nargs="+", default=[10.0, 30.0])
+    ap.add_argument("--budgets", type=float, nargs="+", default=[1.0, 3.0, 9.0, 27.0])
     ap.add_argument("--methods", nargs="+", default=["pt", "auto"],
                     help="quasar methods raced, each a name optionally followed by render flags, quoted")
     ap.add_argument("--variant", default="llvm_ad_spectral", help="Mitsuba variant raced ('none': quasar only)")
     ap.add_argument("--ref-variant", default="llvm_ad_spectral")
-    ap.add_argument("--ref-spp", type=int, default=16384)
+    ap.add_argument("--ref-spp", type=int, default=65536)
     ap.add_argument("--masking-separable", action="store_true", default=True,
                     help="quasar uses Mitsuba's GGX masking form (the default here, so both render one image)")
     ap.add_argument("--reuse-reference", action="store_true",
                     help="keep a scene's reference.exr of an earlier run (same size and reference settings)")
-    ap.add_argument("scenes", nargs="*", default=SCENES)
+    ap.add_argument("--references-only", action="store_true", help="make the references and stop")
+    ap.add_argument("scenes", nargs="*", default=FAMILY)
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     rows = []
@@ -189,6 +201,8 @@ def main():
         floor = float(np.mean(ref_se ** 2 / (ref ** 2 + REL_EPS)))
         print(f"{name}: reference ({ref_by}) in {time.time() - t0:.0f} s, its own relMSE {floor:.2e}",
               file=sys.stderr)
+        if a.references_only:
+            continue
         results = {}
         if expressible and a.variant != "none":
             mi.set_variant(a.variant)
@@ -209,7 +223,36 @@ def main():
                 results.setdefault(f"quasar {m}", []).append((b, t, n, rel_mse(y, ref) - floor, z))
         rows.append((name, ref_by, floor, results))
         print_scene(a, rows[-1])
+    if rows:
+        print_summary(rows)
     return 0
+
+
+def print_summary(rows):
+    """One line per scene: time to relMSE 0.01 of Mitsuba, quasar pt and quasar auto, auto's
+    ratios to both, auto's z-test; then the worst narrow-BSDF scene."""
+    print("\n### Summary: time to relMSE 0.01 (s; ~ extrapolated)\n")
+    print("| scene | Mitsuba path | quasar pt | quasar auto | auto vs Mitsuba | auto vs pt | auto z-test |")
+    print("|---|---|---|---|---|---|---|")
+    worst = None
+    for name, _, _, results in rows:
+        def t(key):
+            runs = next((v for k, v in results.items() if k.startswith(key)), None)
+            return (None, False) if runs is None else time_to(0.01, runs)
+        (tm, xm), (tp, xp), (ta, xa) = t("Mitsuba"), t("quasar pt"), t("quasar auto")
+        cell = lambda v, x: "-" if v is None else f"{'~' * x}{v:.1f}"
+        vs_m = tm / ta if tm and ta else None
+        vs_p = tp / ta if tp and ta else None
+        z = next((v for k, v in results.items() if k == "quasar auto"), [])
+        zs = sorted({r[4] for r in z if r[4]})
+        z = "pass" if zs == ["pass"] else "; ".join(zs)
+        print(f"| {name} | {cell(tm, xm)} | {cell(tp, xp)} | {cell(ta, xa)} | "
+              f"{'-' if vs_m is None else f'{vs_m:.2f}x'} | {'-' if vs_p is None else f'{vs_p:.2f}x'} | {z} |")
+        if name not in NOT_NARROW and vs_m is not None and (worst is None or vs_m < worst[1]):
+            worst = (name, vs_m)
+    if worst:
+        print(f"\nworst narrow-BSDF scene against Mitsuba: {worst[0]} ({worst[1]:.2f}x)")
+    sys.stdout.flush()
 
 
 def print_scene(a, row):

@@ -33,6 +33,10 @@ const KAPPA_WAVELENGTHS: [[f32; 4]; 3] =
 #[derive(Clone, Debug, PartialEq)]
 pub struct NonUniformity {
     values: [f32; KAPPA_TABLE_SIZE],
+    /// kappa of the reflection lobe alone.
+    reflection: [f32; KAPPA_TABLE_SIZE],
+    /// kappa of the transmission lobe alone.
+    transmission: [f32; KAPPA_TABLE_SIZE],
 }
 
 /// The R2 low-discrepancy sequence (Roberts 2018): point `i` in [0, 1)^2.
@@ -45,6 +49,27 @@ fn r2(i: usize) -> Vec2 {
 
 /// kappa of `material` for the incidence direction `wo` (local frame, unit).
 pub fn kappa(material: &Material, wo: Vec3) -> f32 {
+    kappas(material, wo).whole
+}
+
+/// kappa of a whole BSDF and of each of its two lobes for one incidence direction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LobeKappas {
+    /// Over the whole scattering domain (the hemisphere of a reflector, the sphere otherwise).
+    pub whole: f32,
+    /// Over the reflection hemisphere alone (wi on `wo`'s side): Omega = pi and the reflected
+    /// albedo in the denominator.
+    pub reflection: f32,
+    /// Over the transmission hemisphere alone; infinite for a BSDF that transmits nothing.
+    pub transmission: f32,
+}
+
+/// kappa of `material` for `wo` (local frame, unit), whole and per lobe: a lobe's kappa is
+/// pi max_{wi in lobe} Y[f] / Y[integral over the lobe's hemisphere of f |cos wi|], exactly 1
+/// for a Lambertian reflector or transmitter. A lobe that scatters nothing (the refraction of a
+/// dielectric under total internal reflection, the reflection of a reflector's back) is
+/// infinite: nothing arrives there to gather, so a method passes it through like a narrow one.
+pub fn kappas(material: &Material, wo: Vec3) -> LobeKappas {
     let bsdfs: Vec<(Bsdf, [f32; 4])> = KAPPA_WAVELENGTHS
         .iter()
         .map(|l| {
@@ -54,7 +79,7 @@ pub fn kappa(material: &Material, wo: Vec3) -> f32 {
         })
         .collect();
     if bsdfs.iter().any(|(b, _)| b.is_specular()) {
-        return f32::INFINITY;
+        return LobeKappas { whole: f32::INFINITY, reflection: f32::INFINITY, transmission: f32::INFINITY };
     }
     let y_norm: f32 = bsdfs.iter().flat_map(|(_, y)| y.iter()).sum();
     let y_of = |wi: Vec3| -> f32 {
@@ -65,8 +90,10 @@ pub fn kappa(material: &Material, wo: Vec3) -> f32 {
             / y_norm
     };
     let sampler = &bsdfs[0].0;
-    let mut max = 0.0f32;
-    let mut albedo = 0.0f64;
+    // per lobe (0 reflection, 1 transmission): the largest Y[f] and the albedo
+    let mut max = [0.0f32; 2];
+    let mut albedo = [0.0f64; 2];
+    let lobe = |wi: Vec3| usize::from(wi.z * wo.z < 0.0);
     for i in 0..KAPPA_SAMPLES {
         let uc = (i as f32 + 0.5) / KAPPA_SAMPLES as f32;
         let Some(bs) = sampler.sample_f(wo, uc, r2(i), TransportMode::Radiance) else { continue };
@@ -75,23 +102,36 @@ pub fn kappa(material: &Material, wo: Vec3) -> f32 {
         }
         let yf = y_of(bs.wi);
         if yf.is_finite() {
-            max = max.max(yf);
-            albedo += (yf * bs.wi.z.abs() / bs.pdf) as f64;
+            let l = lobe(bs.wi);
+            max[l] = max[l].max(yf);
+            albedo[l] += (yf * bs.wi.z.abs() / bs.pdf) as f64;
         }
     }
     let (mirror, refracted) = sampler.ideal_directions(wo);
     for w in [mirror, refracted].into_iter().flatten() {
         let yf = y_of(w);
         if yf.is_finite() {
-            max = max.max(yf);
+            let l = lobe(w);
+            max[l] = max[l].max(yf);
         }
     }
-    let albedo = albedo / KAPPA_SAMPLES as f64;
-    if albedo.is_nan() || albedo <= 0.0 || max <= 0.0 {
-        return 1.0; // scatters nothing: nothing to gather either way
-    }
-    let omega = if sampler.has_transmission() { 2.0 * std::f64::consts::PI } else { std::f64::consts::PI };
-    (omega * max as f64 / albedo) as f32
+    let albedo = albedo.map(|a| a / KAPPA_SAMPLES as f64);
+    let pi = std::f64::consts::PI;
+    let per_lobe = |l: usize| {
+        if albedo[l].is_nan() || albedo[l] <= 0.0 || max[l] <= 0.0 {
+            f32::INFINITY
+        } else {
+            (pi * max[l] as f64 / albedo[l]) as f32
+        }
+    };
+    let (total, peak) = (albedo[0] + albedo[1], max[0].max(max[1]));
+    let whole = if total.is_nan() || total <= 0.0 || peak <= 0.0 {
+        1.0 // scatters nothing: nothing to gather either way
+    } else {
+        let omega = if sampler.has_transmission() { 2.0 * pi } else { pi };
+        (omega * peak as f64 / total) as f32
+    };
+    LobeKappas { whole, reflection: per_lobe(0), transmission: per_lobe(1) }
 }
 
 impl NonUniformity {
@@ -99,23 +139,36 @@ impl NonUniformity {
     /// analytic BSDFs are isotropic).
     pub fn of_material(material: &Material) -> Self {
         let mut values = [0.0f32; KAPPA_TABLE_SIZE];
-        for (i, v) in values.iter_mut().enumerate() {
+        let mut reflection = [0.0f32; KAPPA_TABLE_SIZE];
+        let mut transmission = [0.0f32; KAPPA_TABLE_SIZE];
+        for i in 0..KAPPA_TABLE_SIZE {
             let c = -1.0 + 2.0 * i as f32 / (KAPPA_TABLE_SIZE - 1) as f32;
             // keep off exact grazing incidence, where every lobe degenerates
             let c =
                 if c.abs() < 0.02 { 0.02f32.copysign(if i < KAPPA_TABLE_SIZE / 2 { -1.0 } else { 1.0 }) } else { c };
             let s = (1.0 - c * c).max(0.0).sqrt();
-            *v = kappa(material, Vec3::new(s, 0.0, c));
+            let k = kappas(material, Vec3::new(s, 0.0, c));
+            (values[i], reflection[i], transmission[i]) = (k.whole, k.reflection, k.transmission);
         }
-        Self { values }
+        Self { values, reflection, transmission }
     }
 
     /// kappa at incidence cosine `cos_o` (linear interpolation; infinite stays infinite).
     pub fn at(&self, cos_o: f32) -> f32 {
+        Self::interpolate(&self.values, cos_o)
+    }
+
+    /// kappa of the reflection and of the transmission lobe alone at incidence cosine `cos_o`
+    /// ([`kappas`]; infinite for a lobe that scatters nothing).
+    pub fn lobes_at(&self, cos_o: f32) -> (f32, f32) {
+        (Self::interpolate(&self.reflection, cos_o), Self::interpolate(&self.transmission, cos_o))
+    }
+
+    fn interpolate(values: &[f32; KAPPA_TABLE_SIZE], cos_o: f32) -> f32 {
         let x = ((cos_o.clamp(-1.0, 1.0) + 1.0) * 0.5 * (KAPPA_TABLE_SIZE - 1) as f32).max(0.0);
         let i = (x as usize).min(KAPPA_TABLE_SIZE - 2);
         let t = x - i as f32;
-        let (a, b) = (self.values[i], self.values[i + 1]);
+        let (a, b) = (values[i], values[i + 1]);
         if a.is_infinite() || b.is_infinite() {
             return f32::INFINITY;
         }
@@ -162,6 +215,31 @@ mod tests {
         let glass = Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.02 };
         assert!(NonUniformity::of_material(&glass).at(0.8) > 100.0);
         assert!(NonUniformity::of_material(&glass).at(-0.8) > 100.0);
+    }
+
+    #[test]
+    fn lobe_kappas_split_a_rough_glass_face() {
+        // a Lambertian reflector: its reflection lobe is the whole BSDF; it transmits nothing
+        let m = Material::Diffuse { reflectance: Spectrum::Constant(0.5), two_sided: true };
+        let (r, t) = NonUniformity::of_material(&m).lobes_at(0.7);
+        assert!((r - 1.0).abs() < 1e-3 && t.is_infinite(), "{r} {t}");
+        // a rough conductor: the reflection lobe's kappa is the whole one's
+        let c = NonUniformity::of_material(&conductor(0.3));
+        assert!((c.lobes_at(0.8).0 - c.at(0.8)).abs() < 1e-3 * c.at(0.8));
+        // the bottom face of a glass plate (alpha 0.3) seen from inside the glass at 37 degrees:
+        // its reflection is a wide lobe, its refraction into air a narrow one (Fresnel leaves the
+        // reflection a few percent of the light, but kappa is relative to each lobe's own albedo)
+        let glass = NonUniformity::of_material(&Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.3 });
+        let (r, t) = glass.lobes_at(-0.8);
+        assert!(r < NARROW_KAPPA && t > NARROW_KAPPA, "reflection {r}, transmission {t}");
+        // beyond the critical angle only steep microfacets refract: a narrow lobe or none
+        assert!(glass.lobes_at(-0.3).1 > NARROW_KAPPA);
+        // a narrow top face (alpha 0.01): both lobes narrow from both sides
+        let top = NonUniformity::of_material(&Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.01 });
+        for c in [-0.9, 0.5, 0.9] {
+            let (r, t) = top.lobes_at(c);
+            assert!(r > NARROW_KAPPA && t > NARROW_KAPPA, "{c}: {r} {t}");
+        }
     }
 
     #[test]

@@ -218,9 +218,7 @@ pub fn export(desc: &SceneDesc, width: u32, height: u32, spp: u32) -> Result<Mit
             LightDesc::Luminaire { .. } => {
                 return Err("a luminaire (Mitsuba 3 has no measured-distribution emitter)".into());
             }
-            LightDesc::Environment { map: Some(_), .. } => {
-                return Err("an environment map (Mitsuba uplifts its RGB texels its own way)".into());
-            }
+            LightDesc::Environment { map: Some(map), scale, .. } => env_map(map, *scale)?,
             LightDesc::Environment { spectrum, scale, map: None } => {
                 format!("<emitter type=\"constant\">{}</emitter>", spectrum_tag("radiance", spectrum, *scale))
             }
@@ -229,6 +227,42 @@ pub fn export(desc: &SceneDesc, width: u32, height: u32, spp: u32) -> Result<Mit
     }
     xml += "</scene>\n";
     Ok(MitsubaScene { xml, meshes })
+}
+
+/// A grey lat-long map as Mitsuba's `envmap`: the same file, turned so that Mitsuba's u = atan2(x, -z) / 2 pi meets
+/// quasar's u = 0.5 + atan2(x, -z) / 2 pi (a half turn about the map's pole). A grey texel's
+/// spectrum is D65 times its value in both renderers; coloured texels are refused, since Mitsuba
+/// uplifts RGB with its own tables. One difference remains: Mitsuba interpolates between texel
+/// centres where quasar holds a texel's radiance constant; the power of the map is the same, and
+/// a map with many texels across its sharp features (the family's sun is nine texels wide)
+/// renders the same image in both.
+fn env_map(map: &quasar_importers::EnvMapDesc, scale: f32) -> Result<String, String> {
+    if let Some(i) = map.texels.iter().position(|t| t[0] != t[1] || t[1] != t[2]) {
+        return Err(format!(
+            "an environment map with coloured texels ({}: texel {} of row {} is not grey; Mitsuba uplifts RGB its own way)",
+            map.file.display(),
+            i % map.width.max(1),
+            i / map.width.max(1)
+        ));
+    }
+    let path = map.file.canonicalize().map_err(|e| format!("{}: {e}", map.file.display()))?;
+    let half_turn = glam::Mat3::from_rotation_y(std::f32::consts::PI);
+    let m = map.frame * half_turn;
+    let (x, y, z) = (m.x_axis, m.y_axis, m.z_axis);
+    Ok(format!(
+        "<emitter type=\"envmap\"><string name=\"filename\" value=\"{}\"/><float name=\"scale\" value=\"{scale}\"/>\
+         <transform name=\"to_world\"><matrix value=\"{} {} {} 0 {} {} {} 0 {} {} {} 0 0 0 0 1\"/></transform></emitter>",
+        path.display(),
+        x.x,
+        y.x,
+        z.x,
+        x.y,
+        y.y,
+        z.y,
+        x.z,
+        y.z,
+        z.z
+    ))
 }
 
 /// Writes [`export`]'s scene into `dir` (created if needed) as `scene.xml` and its meshes.

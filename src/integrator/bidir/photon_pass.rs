@@ -13,7 +13,7 @@ use super::arrival::{Arrival, Deposit, Deposits, Gatherer, PhotonCounts, PointSi
 use super::gather_disk::GatherDisk;
 use super::grid::VisibilityGrid;
 use super::lookup_pipeline::LookupPipeline;
-use super::quasi_cone::QuasiCone;
+use super::quasi_cone::in_cone;
 use super::ranges::ByRange;
 use super::visibility_point::{GatherRule, VisibilityPoint};
 use crate::core::geometry::Ray;
@@ -277,9 +277,10 @@ fn trace_photon(
         specular_only &= bs.specular;
         // the camera side passes through narrow lobes and cones: photons bounced there stay
         // caustic photons (sharp, gathered with the caustic radius)
-        caustic &= bs.specular
-            || rule.passes_through(scene, &si, wo_local)
-            || rule.cone_cos.is_some_and(|c| QuasiCone::at(&bsdf, wo_local, c).is_some_and(|k| k.contains(bs.wi)));
+        caustic &= bs.specular || {
+            let t = rule.treat(scene, &si, &bsdf, wo_local);
+            t.pass_through || in_cone(&t.cone, bs.wi)
+        };
         ray = si.spawn_ray(wi);
         if bounce + 1 >= RR_DEPTH {
             // roulette on the throughput relative to the emitted flux

@@ -41,7 +41,8 @@ pub struct VisibilityPoint<'a> {
     /// Distance from the eye to the path's first non-specular vertex along the path (the
     /// pixel's footprint there sets the automatic gather radius).
     pub footprint_distance: f32,
-    /// Photons arriving inside this cone are not gathered here (quasi-specular methods).
+    /// Photons arriving inside this continued set C are not gathered here (the quasi-specular
+    /// cone, a narrow lobe's hemisphere: [`VertexTreatment::cone`]).
     pub cone: Option<QuasiCone>,
     /// The viewer is on the side `ng` points to.
     pub viewer_above: bool,
@@ -65,18 +66,65 @@ pub struct GatherRule {
     pub pass_narrow: bool,
 }
 
+/// How the camera-path methods treat one non-specular vertex (docs/architecture.md §7.5),
+/// decided from the vertex alone (its material and the direction it is seen from), so that
+/// every choice below is unbiased.
+#[derive(Clone, Copy, Debug)]
+pub struct VertexTreatment {
+    /// Every lobe is narrow: traced through (full NEE with MIS, a BSDF-sampled continuation over
+    /// the whole sphere), never gathered on, not counted as depth.
+    pub pass_through: bool,
+    /// The continued set C: the quasi-specular cone(s) and, where one lobe of a transmitting BSDF
+    /// is narrow and the other is not, the narrow lobe's whole hemisphere. None: every direction
+    /// is gathered.
+    pub cone: Option<QuasiCone>,
+    /// kappa of what a visibility point here gathers: the whole BSDF's, or that of the lobe left
+    /// outside C.
+    pub kappa: f32,
+}
+
 impl GatherRule {
-    /// True at a vertex the quasi-specular methods and `adaptive` pass through instead of
-    /// gathering: its lobe is narrow (kappa(wo) > [`NARROW_KAPPA`]), so photons arriving within
-    /// it (or, with a cone, from outside the cone) are too rare there to estimate the rest of the
-    /// sphere (they would show as fireflies and as light missing everywhere else). Such a vertex
-    /// is traced like one before the gather depth: full NEE with MIS and a BSDF-sampled
-    /// continuation over the whole sphere, which is unbiased (the choice depends only on the
-    /// vertex reached), and it does not count as depth.
+    /// The treatment of a non-specular vertex with `bsdf` seen from `wo_local`. A lobe is narrow
+    /// when its kappa(wo) exceeds [`NARROW_KAPPA`]: photons arriving within it are too rare there
+    /// to estimate the rest of the sphere (they would show as fireflies and as light missing
+    /// everywhere else). A BSDF whose every lobe is narrow is passed through; a transmitting one
+    /// with one narrow lobe continues that lobe's hemisphere as it continues a quasi-specular
+    /// cone and gathers the other (the rough bottom face of a glass plate, seen from inside:
+    /// its refraction is narrow, but its reflection of a lamp seen through the top face is wide
+    /// and is found by the photons, not by a BSDF sample that must hit the lamp through the top).
+    /// Plain `vismap` (no cone, `pass_narrow` off) gathers everywhere.
     #[inline]
-    pub fn passes_through(&self, scene: &Scene, si: &SurfaceInteraction, wo_local: Vec3) -> bool {
-        (self.cone_cos.is_some() || self.pass_narrow)
-            && scene.non_uniformity()[si.material as usize].at(wo_local.z) > NARROW_KAPPA
+    pub fn treat(&self, scene: &Scene, si: &SurfaceInteraction, bsdf: &Bsdf, wo_local: Vec3) -> VertexTreatment {
+        let nu = &scene.non_uniformity()[si.material as usize];
+        let whole = nu.at(wo_local.z);
+        let axes = self.cone_cos.and_then(|c| QuasiCone::at(bsdf, wo_local, c));
+        if self.cone_cos.is_none() && !self.pass_narrow {
+            return VertexTreatment { pass_through: false, cone: None, kappa: whole };
+        }
+        let pass_through = VertexTreatment { pass_through: true, cone: None, kappa: whole };
+        if !bsdf.has_transmission() {
+            return if whole > NARROW_KAPPA {
+                pass_through
+            } else {
+                VertexTreatment { pass_through: false, cone: axes, kappa: whole }
+            };
+        }
+        let (reflection, transmission) = nu.lobes_at(wo_local.z);
+        let side = wo_local.z.signum();
+        match (reflection > NARROW_KAPPA, transmission > NARROW_KAPPA) {
+            (true, true) => pass_through,
+            (false, false) => VertexTreatment { pass_through: false, cone: axes, kappa: whole },
+            (true, false) => VertexTreatment {
+                pass_through: false,
+                cone: Some(QuasiCone::with_hemisphere(axes, side)),
+                kappa: transmission,
+            },
+            (false, true) => VertexTreatment {
+                pass_through: false,
+                cone: Some(QuasiCone::with_hemisphere(axes, -side)),
+                kappa: reflection,
+            },
+        }
     }
 }
 
@@ -94,13 +142,8 @@ pub struct CameraPathResult {
     pub wl: SampledWavelengths,
 }
 
-/// The cone of a vertex when the rule has one and the BSDF has a lobe around an ideal direction.
-fn cone_at(rule: &GatherRule, bsdf: &Bsdf, wo_local: Vec3) -> Option<QuasiCone> {
-    rule.cone_cos.and_then(|c| QuasiCone::at(bsdf, wo_local, c))
-}
-
 /// The BSDF-sampling half of MIS direct light at a gather vertex whose sampled direction left
-/// the cone: the one segment is traced and an emitter (or the environment) found there is
+/// the continued set C: the one segment is traced and an emitter (or the environment) found there is
 /// weighted against light sampling. Emission reached through a specular surface is not counted:
 /// photons carry it.
 #[allow(clippy::too_many_arguments)]
@@ -121,15 +164,15 @@ fn direct_by_bsdf_sample(
 
 /// Traces the camera path of one pixel for one iteration. Specular events are followed exactly.
 /// At a non-specular vertex before the gather depth, MIS direct light is added and the path
-/// continues by BSDF sampling (a sample inside the quasi-specular cone does not count as
-/// depth). At a gather vertex, direct light restricted to C' is added (light sampling + one BSDF
-/// sample, MIS; delta lights are never restricted, since no continued path can reach them) and
-/// a visibility point gathering photons from C' is left; a BSDF sample inside C continues the
-/// path (the integral over C), otherwise its one segment is traced for the emitter hit and the
-/// path ends. Without a cone every gather vertex ends the path (plain `vismap`). Paths are not
-/// Russian-rouletted while they leave visibility points; a path that reaches
-/// [`MAX_POINTS_PER_PATH`] gather vertices, or more than `max_specular` specular or
-/// passed-through ([`GatherRule::passes_through`]) events, is
+/// continues by BSDF sampling (a sample inside the continued set C does not count as depth). At
+/// a gather vertex, direct light over the whole sphere is added (light sampling and the BSDF
+/// sample, MIS: the BSDF sample finds the emitter whether it continues the path or not, and
+/// photons carry no direct light) and a visibility point gathering photons from C' is left; a
+/// BSDF sample inside C continues the path (the integral over C), otherwise its one segment is
+/// traced for the emitter hit and the path ends. Without a continued set every gather vertex
+/// ends the path (plain `vismap`). Paths are not Russian-rouletted while they leave visibility
+/// points; a path that reaches [`MAX_POINTS_PER_PATH`] gather vertices, or more than
+/// `max_specular` specular or passed-through ([`VertexTreatment::pass_through`]) events, is
 /// continued from there as the path tracer ([`pt::trace`]) so that the light from C there is
 /// not lost (docs/architecture.md §7.5: no path is cut by a cap). The visibility points are
 /// appended to `points`.
@@ -172,11 +215,12 @@ pub fn trace_camera_path<'s>(
         let frame = si.frame();
         let wo_local = frame.to_local(wo);
         let specular = bsdf.is_specular();
-        let narrow = !specular && rule.passes_through(scene, &si, wo_local);
-        let cone = if specular || narrow { None } else { cone_at(rule, &bsdf, wo_local) };
+        let treatment = (!specular).then(|| rule.treat(scene, &si, &bsdf, wo_local));
+        let narrow = treatment.is_some_and(|t| t.pass_through);
+        let cone = treatment.and_then(|t| t.cone);
         let gather = !specular && !narrow && depth == rule.depth;
         if gather {
-            pending = sample_light(scene, &si, &bsdf, wo_local, &wl, sampler, |w| in_cone(&cone, w))
+            pending = sample_light(scene, &si, &bsdf, wo_local, &wl, sampler, |_| false)
                 .map(|l| l.for_path(beta, class.scattered(false)));
             points.push(VisibilityPoint {
                 p: si.p,
@@ -221,9 +265,9 @@ pub fn trace_camera_path<'s>(
             eta_scale *= bs.eta * bs.eta;
         }
         events += 1;
-        // inside a gather vertex's cone no light sampling covers the direction: emission found
-        // there counts fully; elsewhere it is MIS-weighted against the light sample
-        let pdf = if bs.specular || (gather && quasi_specular) { f32::INFINITY } else { bs.pdf };
+        // emission found by this sample is MIS-weighted against the vertex's light sample, which
+        // covers the whole sphere (inside C too)
+        let pdf = if bs.specular { f32::INFINITY } else { bs.pdf };
         prev = PrevVertex { p: si.p, pdf };
         ray = si.spawn_ray(wi);
         if points.len() - first_point >= MAX_POINTS_PER_PATH || pass_through_events > rule.max_specular {
@@ -292,12 +336,16 @@ pub fn pilot_gather_depth(
             }
         }
         let sample = scatter(&bsdf, &si, &frame, -ray.dir, wo_local, TransportMode::Radiance, sampler);
-        let narrow = !specular && rule.passes_through(scene, &si, wo_local);
-        let cone = if specular || narrow { None } else { cone_at(rule, &bsdf, wo_local) };
+        let treatment = (!specular).then(|| rule.treat(scene, &si, &bsdf, wo_local));
+        let narrow = treatment.is_some_and(|t| t.pass_through);
+        let cone = treatment.and_then(|t| t.cone);
         let quasi_specular = narrow || sample.is_some_and(|sc| !sc.bs.specular && in_cone(&cone, sc.bs.wi));
-        if !specular && !quasi_specular && last_depth_seen != Some(depth) {
+        if let Some(t) = treatment
+            && !quasi_specular
+            && last_depth_seen != Some(depth)
+        {
             last_depth_seen = Some(depth);
-            let kappa = scene.non_uniformity()[si.material as usize].at(wo_local.z);
+            let kappa = t.kappa;
             if best.is_none_or(|(k, _)| kappa < k) {
                 best = Some((kappa, depth));
             }
