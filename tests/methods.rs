@@ -217,15 +217,23 @@ fn adaptive_gathers_behind_a_glossy_floor_and_where_its_reflections_escape() {
     assert!(depth > 0.8, "mean trace depth on the floor under the sky {depth}");
 }
 
-/// `auto` renders the diffuse Cornell box with pt and the narrow glass plate with adaptive+quasi.
+/// `auto` renders the diffuse Cornell box with pt (the scene analysis: nothing narrow), and
+/// chooses by its pilots (render/pilot.rs) where something is: adaptive+quasi for the glass
+/// plates, whose light reaches the plate's bottom and the floor under it through the narrow top,
+/// pt for diffuse and moderately rough metal objects under a sky, which the path tracer's light
+/// sampling reaches directly (BENCHMARKS.md, "The family": pt 1.4x ahead there).
 #[test]
 fn auto_picks_pt_for_diffuse_and_adaptive_quasi_for_narrow_scenes() {
-    for (scene, expected) in
-        [("cornell-box/cornell-box.toml", "pt"), ("glass-plate/glass-plate.toml", "adaptive+quasi")]
-    {
-        let ov = JobOverrides { width: Some(8), height: Some(6), spp: Some(1), ..Default::default() };
+    for (scene, expected) in [
+        ("cornell-box/cornell-box.toml", "pt"),
+        ("glass-plate/glass-plate.toml", "adaptive+quasi"),
+        ("bench/plate-rough-bottom-0.3.toml", "adaptive+quasi"),
+        ("bench/sky-objects.toml", "pt"),
+    ] {
+        let ov = JobOverrides { width: Some(64), height: Some(64), spp: Some(32), ..Default::default() };
         let img = render_file(&shipped(scene), &ov).image;
-        assert_eq!(img.meta("method"), Some(expected), "{scene}");
+        eprintln!("{scene}: {:?}", img.meta("auto_pilot"));
+        assert_eq!(img.meta("method"), Some(expected), "{scene}: {:?}", img.meta("auto_pilot"));
         assert_eq!(img.meta("method_requested"), Some("auto"));
     }
 }

@@ -15,6 +15,24 @@ use crate::core::geometry::{Accel, Hit, NONE, Ray, TriangleGeom, TriangleInfo};
 use crate::core::light::{Emission, Light, LightSampler};
 use crate::core::texture::{ImageTexture, TexturedMaterial};
 
+std::thread_local! {
+    /// Rays this thread has traced ([`Scene::intersect`], [`Scene::intersect_geometry`],
+    /// [`Scene::occluded`]): the deterministic measure of work by which `auto` compares methods
+    /// (`integrator::auto_choice`). One add to a thread-local per ray, against a BVH traversal.
+    static RAYS_TRACED: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+/// Rays traced so far by the calling thread (see [`RAYS_TRACED`]); a difference of two
+/// readings on every thread of a pool is the work done between them.
+pub fn rays_traced_by_this_thread() -> u64 {
+    RAYS_TRACED.with(|c| c.get())
+}
+
+#[inline(always)]
+fn count_ray() {
+    RAYS_TRACED.with(|c| c.set(c.get() + 1));
+}
+
 /// Error compiling a scene description.
 #[derive(Debug, thiserror::Error)]
 pub enum CompileError {
@@ -393,6 +411,7 @@ impl Scene {
     /// Closest surface hit along `ray`.
     #[inline(always)]
     pub fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction> {
+        count_ray();
         let h = self.accel.intersect(ray)?;
         Some(self.interaction(ray, &h))
     }
@@ -401,6 +420,7 @@ impl Scene {
     /// for probes that need no shading normal, texture coordinates or material.
     #[inline]
     pub fn intersect_geometry(&self, ray: &Ray) -> Option<GeometricHit> {
+        count_ray();
         Some(self.geometry(&self.accel.intersect(ray)?))
     }
 
@@ -415,6 +435,7 @@ impl Scene {
     /// True when the segment of `ray` up to `t_max` is blocked.
     #[inline(always)]
     pub fn occluded(&self, ray: &Ray) -> bool {
+        count_ray();
         self.accel.occluded(ray)
     }
 

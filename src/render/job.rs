@@ -154,6 +154,36 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         spp: if open_ended { ov.spp.unwrap_or(u32::MAX / 2) } else { spp },
         isa,
     };
+    // `auto` between the path tracer and a bidirectional method: measured (render/pilot.rs),
+    // unless the command line sets a parameter the path tracer does not read, or the render
+    // resumes a checkpoint (whose method the resume key names)
+    let pt_reads_params = instantiate(&crate::integrator::pt::PT, &params, &build).is_ok();
+    let pilot = if choice == MethodChoice::Auto
+        && entry.name != crate::integrator::pt::PT.name
+        && pt_reads_params
+        && ov.resume.is_none()
+    {
+        let budget = if open_ended { u32::MAX } else { spp };
+        Some(
+            crate::render::pilot::choose(
+                &crate::integrator::pt::PT,
+                entry,
+                &params,
+                &scene,
+                &camera,
+                seed,
+                isa,
+                shard,
+                budget,
+                ov.threads,
+                ov.spectral_bins,
+            )
+            .map_err(anyhow::Error::msg)?,
+        )
+    } else {
+        None
+    };
+    let entry = pilot.as_ref().map_or(entry, |p| p.entry);
     let Built { mut method, units } = instantiate(entry, &params, &build).map_err(anyhow::Error::msg)?;
     // what must match for a resume: the scene and every setting but the sample budget (the
     // scene is hashed only when checkpoints are used: it walks the whole scene description)
@@ -183,7 +213,9 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     } else {
         Default::default()
     };
+    let pilot_seconds = pilot.as_ref().map_or(0.0, |p| p.seconds);
     let resume = match &ov.resume {
+        None => pilot.as_ref().and_then(|p| p.resume.clone()),
         Some(p) => {
             let st = crate::render::checkpoint::read(p, &resume_key).map_err(anyhow::Error::msg)?;
             if (st.film.width, st.film.height) != (width, height) {
@@ -191,12 +223,12 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
             }
             Some(st)
         }
-        None => None,
     };
     let opts = DriverOptions {
         // this shard's units: global indices shard_k + shard_n * j below the requested count
         units: units.max(1).saturating_sub(shard.0).div_ceil(shard.1).max(1),
-        time_limit: time_s,
+        // the pilots' time is the render's: a --time budget covers both
+        time_limit: time_s.map(|t| (t - pilot_seconds).max(0.0)),
         target_error,
         threads: ov.threads,
         progress,
@@ -218,6 +250,7 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         crate::render::checkpoint::Fingerprint::of(&[&materials, &meshes, &textures, &desc.lights, &desc.camera])
     };
     let mut result = driver::run(method.as_mut(), &scene, &camera, &opts).map_err(anyhow::Error::msg)?;
+    result.seconds += pilot_seconds;
     drop(method);
     if scene.lights.is_empty() {
         result.warnings.push(format!(
@@ -307,6 +340,9 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
             "spectral_units".into(),
             "S0.*: mean spectral radiance of the beauty over each bin, in the scene's radiance units per nm (W m^-2 sr^-1 nm^-1 when its lights are absolute), named after the bin centre".into(),
         ));
+    }
+    if let Some(p) = &pilot {
+        header.push(("auto_pilot".into(), p.report.clone()));
     }
     header.extend(result.header.iter().cloned());
     let image = ExrImage { width: width as usize, height: height as usize, channels, metadata: header };

@@ -7,4 +7,5 @@ pub mod driver;
 pub mod interrupt;
 pub mod job;
 pub mod memory;
+pub mod pilot;
 pub mod sensors;
