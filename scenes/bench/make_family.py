@@ -464,35 +464,33 @@ emission = {{ spectrum = {{ blackbody = 2900 }}, scale = 3000 }}
 SKY_EXR = "sky.exr"
 SUN_ELEVATION_DEG = 35.0
 SUN_AZIMUTH_DEG = 120.0  # from -Z (the image centre) towards +X
-SUN_RADIUS_DEG = 1.5
 
 
-def write_sky(path, width=1024, height=512):
+def sun_direction():
+    """Unit vector towards the sun (quasar's frame: +Y up, azimuth from -Z towards +X)."""
+    elev, az = math.radians(SUN_ELEVATION_DEG), math.radians(SUN_AZIMUTH_DEG)
+    return (math.cos(elev) * math.sin(az), math.sin(elev), -math.cos(elev) * math.cos(az))
+
+
+SKY_LUMINANCE_MEAN = 0.75  # about the mean of the sky map over the upper hemisphere
+
+
+def write_sky(path, width=64, height=512):
     """A grey lat-long sky (quasar's layout: row 0 the zenith, u = 0.5 + atan2(x, -z) / 2 pi):
-    brighter towards the horizon, a dark ground below it, and a sun disc that gives about four
-    times the sky's horizontal illuminance, about nine texels across (Mitsuba interpolates
-    between texels where quasar holds each constant: see `quasar export-mitsuba`). Grey (R = G = B), so that quasar and Mitsuba turn it
-    into the same spectrum."""
+    brighter towards the horizon, a dark ground below it, the horizon ramped over a few texels.
+    No sun: a sun disc a few texels wide renders differently where Mitsuba interpolates between
+    texels and quasar holds each constant (0.2% of the image on this scene), so the sun is a
+    directional light, as lighting tools model it. Grey (R = G = B), so that quasar and Mitsuba
+    turn it into the same spectrum."""
     import numpy as np
     import OpenEXR
 
     v = (np.arange(height) + 0.5) / height
-    u = (np.arange(width) + 0.5) / width
     theta = v * math.pi  # from the zenith
-    phi = (u - 0.5) * 2 * math.pi
-    th, ph = np.meshgrid(theta, phi, indexing="ij")
-    d = np.stack([np.sin(th) * np.sin(ph), np.cos(th), -np.sin(th) * np.cos(ph)], axis=-1)
-    elev = math.radians(SUN_ELEVATION_DEG)
-    az = math.radians(SUN_AZIMUTH_DEG)
-    sun = np.array([math.cos(elev) * math.sin(az), math.sin(elev), -math.cos(elev) * math.cos(az)])
-    y = d[..., 1]
-    sky = np.where(y > 0, 0.5 + 0.5 * (1 - y), 0.08)
-    cos_sun = d @ sun
-    in_sun = cos_sun > math.cos(math.radians(SUN_RADIUS_DEG))
-    sun_solid_angle = 2 * math.pi * (1 - math.cos(math.radians(SUN_RADIUS_DEG)))
-    sky_illuminance = math.pi * 0.75
-    sun_radiance = 4.0 * sky_illuminance / (sun_solid_angle * math.sin(elev))
-    img = np.where(in_sun, sun_radiance, sky).astype(np.float32)
+    y = np.cos(theta)
+    ground = np.clip(0.5 + y / math.radians(1.5), 0.0, 1.0)
+    row = 0.08 + ground * (0.5 + 0.5 * (1 - np.abs(y)) - 0.08)
+    img = np.repeat(row[:, None], width, axis=1).astype(np.float32)
     rgb = np.repeat(img[..., None], 3, axis=-1)
     header = {"compression": OpenEXR.PIZ_COMPRESSION, "type": OpenEXR.scanlineimage}
     with OpenEXR.File(header, {"RGB": rgb}) as f:
@@ -500,13 +498,14 @@ def write_sky(path, width=1024, height=512):
 
 
 def sky_objects():
-    """Outdoor objects under a lat-long sky with a sun: a diffuse sphere, a rough metal sphere
+    """Outdoor objects under a lat-long sky and a sun: a diffuse sphere, a rough metal sphere
     (GGX alpha 0.1) and a diffuse box on a grey ground. Nothing here is narrow enough for photons
     to pay: `auto` must at least match `pt`."""
     text = HEADER.format(
-        title="Diffuse and rough-metal objects under a lat-long sky with a sun.",
-        what="An open scene lit by an environment map (grey sky, sun disc of 1.5 degrees at 35 degrees\n"
-        "# elevation): the path tracer's light sampling is at its best here.",
+        title="Diffuse and rough-metal objects under a lat-long sky and a sun.",
+        what="An open scene lit by an environment map (a grey sky) and the sun (a directional light at 35\n"
+        "# degrees elevation), seen from above (the sky only in the metal sphere): the path tracer's\n"
+        "# light sampling is at its best here.",
     )
     text += f"""
 [render]
@@ -515,8 +514,8 @@ height = 256
 spp = 64
 
 [camera]
-position = [0.0, 0.9, 2.6]
-target = [0.0, 0.35, 0.0]
+position = [0.0, 1.6, 2.3]
+target = [0.0, 0.2, 0.0]
 up = [0, 1, 0]
 fov_deg = 40
 fov_axis = "y"
@@ -541,7 +540,7 @@ reflectance = 0.8
 [[shape]]
 type = "quad"
 center = [0.0, 0.0, 0.0]
-size = [8.0, 8.0]
+size = [40.0, 40.0]
 normal = [0, 1, 0]
 material = "ground"
 
@@ -560,6 +559,12 @@ material = "metal"
 [[light]]
 type = "environment"
 file = "{SKY_EXR}"
+
+[[light]]                    # the sun: four times the sky's horizontal illuminance
+type = "directional"
+direction = {fmt([-c for c in sun_direction()])}
+spectrum = {{ illuminant = "D65" }}
+scale = {4.0 * math.pi * SKY_LUMINANCE_MEAN / math.sin(math.radians(SUN_ELEVATION_DEG)):.6g}
 """
     text += box("block", (-0.1, 0.0, 0.35), (0.2, 0.3, 0.65),
                 {f: "white" for f in ["top", "bottom", "front", "back", "right", "left"]})

@@ -229,13 +229,24 @@ pub fn export(desc: &SceneDesc, width: u32, height: u32, spp: u32) -> Result<Mit
     Ok(MitsubaScene { xml, meshes })
 }
 
+/// Luminance of Mitsuba 3.9's `d65` spectrum (see [`env_map`]).
+const MITSUBA_D65_LUMINANCE: f32 = 0.998_893_8;
+
 /// A grey lat-long map as Mitsuba's `envmap`: the same file, turned so that Mitsuba's u = atan2(x, -z) / 2 pi meets
 /// quasar's u = 0.5 + atan2(x, -z) / 2 pi (a half turn about the map's pole). A grey texel's
 /// spectrum is D65 times its value in both renderers; coloured texels are refused, since Mitsuba
 /// uplifts RGB with its own tables. One difference remains: Mitsuba interpolates between texel
-/// centres where quasar holds a texel's radiance constant; the power of the map is the same, and
-/// a map with many texels across its sharp features (the family's sun is nine texels wide)
-/// renders the same image in both.
+/// centres where quasar holds a texel's radiance constant. A smooth map renders the same image in
+/// both; a sharp feature a few texels wide does not (a sun disc nine texels wide lit the
+/// family's sky-objects scene 0.2% differently, z -20 at 8192 spp): give the sun as a
+/// directional light, as the family does.
+///
+/// Mitsuba multiplies a grey texel by its own `d65` spectrum, whose luminance under its own CIE
+/// 1931 ybar is 0.9988938 (sum of d65(λ) ȳ(λ) / sum of ȳ(λ) over 360..830 nm in 0.5 nm steps,
+/// with `mi.load_dict({'type': 'd65'})` and `mi.cie1931_y` of the `scalar_spectral` variant), where
+/// quasar's D65 white has luminance 1: the map's scale is divided by it
+/// ([`MITSUBA_D65_LUMINANCE`]). Measured without it: a flat map of 1 rendered 0.10% darker in
+/// Mitsuba than its constant emitter of quasar's D65 (64x64, 16384 spp), the same in quasar.
 fn env_map(map: &quasar_importers::EnvMapDesc, scale: f32) -> Result<String, String> {
     if let Some(i) = map.texels.iter().position(|t| t[0] != t[1] || t[1] != t[2]) {
         return Err(format!(
@@ -246,6 +257,7 @@ fn env_map(map: &quasar_importers::EnvMapDesc, scale: f32) -> Result<String, Str
         ));
     }
     let path = map.file.canonicalize().map_err(|e| format!("{}: {e}", map.file.display()))?;
+    let scale = scale / MITSUBA_D65_LUMINANCE;
     let half_turn = glam::Mat3::from_rotation_y(std::f32::consts::PI);
     let m = map.frame * half_turn;
     let (x, y, z) = (m.x_axis, m.y_axis, m.z_axis);
