@@ -20,7 +20,7 @@ pub static METHODS: [&MethodEntry; 6] = [
     &bidir::methods::ADAPTIVE_QUASI,
 ];
 
-/// A method as requested: by name, or `auto` (scene analysis picks one).
+/// A method as requested: by name, or `auto` (scene analysis, then for narrow or specular scenes a measured pilot, picks one).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum MethodChoice {
     /// [`SceneAnalysis::auto_method`] decides.
