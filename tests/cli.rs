@@ -433,6 +433,42 @@ fn missing_output_directories_are_refused_before_rendering() {
     );
 }
 
+/// What an output path names is checked before the render (issue 52): `-o /dev/null` is
+/// written through and stays a device (the landed writer renamed a regular file over it), an
+/// image path with another extension than the format written is refused (`-o x.png` wrote EXR
+/// bytes, `--preview x.jpg` a PNG), and so is a folder (it failed only after the render).
+#[test]
+fn outputs_are_checked_for_kind_and_extension_before_rendering() {
+    let s = write_scene(GOOD, &[]);
+    let exr = s.dir.path().join("out.exr");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        let is_device = || std::fs::symlink_metadata("/dev/null").is_ok_and(|m| m.file_type().is_char_device());
+        if is_device() {
+            let (status, stderr) = render_cli(&s.path, Path::new("/dev/null"), ["--seed", "1"]);
+            assert!(status.success(), "{stderr}");
+            assert!(is_device(), "/dev/null must stay a device");
+        }
+    }
+    let png = s.dir.path().join("out.png");
+    let (status, stderr) = render_cli(&s.path, &png, ["--seed", "1"]);
+    assert!(!status.success() && stderr.contains("give it a .exr path"), "{stderr}");
+    assert!(!png.exists());
+    let jpg = s.dir.path().join("out.jpg");
+    let (status, stderr) = render_cli(&s.path, &exr, [std::ffi::OsStr::new("--preview"), jpg.as_os_str()]);
+    assert!(!status.success() && stderr.contains("give it a .png path"), "{stderr}");
+    assert!(!jpg.exists() && !exr.exists());
+    let folder = s.dir.path().join("folder.exr");
+    std::fs::create_dir(&folder).unwrap();
+    let (status, stderr) = render_cli(&s.path, &folder, ["--spp", "100000000"]);
+    assert!(!status.success() && stderr.contains("is a folder"), "{stderr}");
+    // upper-case extensions are the same format
+    let upper = s.dir.path().join("OUT.EXR");
+    let (status, stderr) = render_cli(&s.path, &upper, ["--seed", "1"]);
+    assert!(status.success() && upper.exists(), "{stderr}");
+}
+
 /// A `--target-error` that `--time` cuts short is reported on stderr and in the header
 /// (`target_error_reached`), and a reached one says so (issue 18).
 #[test]

@@ -266,13 +266,33 @@ pub fn render(args: RenderArgs) -> Result<ExitCode> {
         PathBuf::from(scene.file_stem().map_or("out".into(), |s| s.to_string_lossy().into_owned()) + ".exr")
     });
     // every output is checked before the render, so that none fails after it
-    for path in std::iter::once(&exr).chain(preview.as_ref()) {
-        if same_file(&scene, path) {
-            anyhow::bail!("{}: the output would overwrite the scene file", path.display());
-        }
-        let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));
-        if !dir.is_dir() {
-            anyhow::bail!("{}: the directory {} does not exist", path.display(), dir.display());
+    let exr_is_stream = check_output(&scene, &exr, "exr", "-o")?;
+    if let Some(p) = &preview {
+        check_output(&scene, p, "png", "--preview")?;
+    }
+    if let Some(p) = &ov.checkpoint {
+        check_output(&scene, p, "", "--checkpoint")?;
+    }
+    if exr_is_stream && false_colour.is_some() {
+        anyhow::bail!(
+            "--false-colour writes its PNG beside the image, and {} is a device or a pipe: give -o a file path",
+            exr.display()
+        );
+    }
+    if let Some(q) = &false_colour {
+        check_output(&scene, &exr.with_file_name(format!("{}.{q}.png", file_stem(&exr))), "", "--false-colour")?;
+    }
+    let sensors_written = !desc.sensors.is_empty() && !exr_is_stream;
+    if !desc.sensors.is_empty() && exr_is_stream {
+        eprintln!(
+            "warning: {}: the scene's sensor readings are written beside the image, and {} is a device or a pipe: they are not written",
+            scene.display(),
+            exr.display()
+        );
+    }
+    if sensors_written {
+        for sensor in &desc.sensors {
+            check_output(&scene, &sensor_csv_path(&exr, &sensor.name), "", "the sensor readings")?;
         }
     }
     let false_colour_map = match false_colour.as_deref() {
@@ -310,7 +330,7 @@ pub fn render(args: RenderArgs) -> Result<ExitCode> {
             eprintln!("false colour of {layer} ({}..{}) -> {}", fc.min, fc.max, path.display());
         }
     }
-    if !desc.sensors.is_empty() && !out.result.interrupted {
+    if sensors_written && !out.result.interrupted {
         let scale = false_colour_scale.unwrap_or(ColourScale::Linear);
         write_sensors(&desc, &exr, ov.seed.unwrap_or(desc.render.seed), scale, quiet)?;
     }
@@ -331,6 +351,26 @@ pub fn render(args: RenderArgs) -> Result<ExitCode> {
         );
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Checks an output path before the render: not the scene file, an extension `ext` (none
+/// checked when empty) unless it is a device or a pipe, and writable
+/// ([`quasar::output::check_writable`]). Returns whether it is a device or a pipe.
+fn check_output(scene: &std::path::Path, path: &std::path::Path, ext: &str, flag: &str) -> Result<bool> {
+    if same_file(scene, path) {
+        anyhow::bail!("{}: the output would overwrite the scene file", path.display());
+    }
+    let stream = quasar::output::OutputTarget::of(path).is_ok_and(|t| t == quasar::output::OutputTarget::Stream);
+    let has_ext = path.extension().is_some_and(|e| e.eq_ignore_ascii_case(ext));
+    if !ext.is_empty() && !stream && !has_ext {
+        let what = if ext == "exr" { "an OpenEXR image" } else { "a PNG image" };
+        anyhow::bail!(
+            "{}: {flag} writes {what}; give it a .{ext} path (the image is always OpenEXR, --preview adds a PNG)",
+            path.display()
+        );
+    }
+    quasar::output::check_writable(path)?;
+    Ok(stream)
 }
 
 /// The file name of `path` without its extension (`out` when it has none).

@@ -6,6 +6,6 @@ pub mod false_colour;
 pub mod preview;
 pub mod text;
 
-pub use atomic::{WriteError, write_atomic, write_atomic_bytes, write_png_atomic};
+pub use atomic::{OutputTarget, WriteError, check_writable, write_atomic, write_atomic_bytes, write_png_atomic};
 pub use exr_file::{ExrImage, read_exr, write_exr_atomic};
 pub use preview::write_preview_png;
