@@ -519,6 +519,14 @@ fn black_renders_are_reported() {
         let lit = quasar::output::read_exr(&out).unwrap().channel("XYZ.Y").unwrap().iter().any(|&y| y > 0.0);
         assert_eq!(lit, args.is_empty() && text == no_light, "{needle}");
     }
+    // `--default-light env` lights a scene that has a light of its own too (issue 52: it did
+    // nothing there, silently)
+    let s = write_scene(&light_inside, &[]);
+    let out = s.dir.path().join("env.exr");
+    let (status, stderr) = render_cli(&s.path, &out, ["--default-light", "env"]);
+    assert!(status.success() && stderr.contains("--default-light env adds"), "{stderr}");
+    assert!(!stderr.contains("the image is black"), "{stderr}");
+    assert!(quasar::output::read_exr(&out).unwrap().channel("XYZ.Y").unwrap().iter().any(|&y| y > 0.0));
     let s = write_scene(GOOD, &[]);
     let (_, stderr) = render_cli(&s.path, &s.dir.path().join("lit.exr"), [] as [&str; 0]);
     assert!(!stderr.contains("black") && !stderr.contains("sees none"), "{stderr}");

@@ -97,10 +97,11 @@ pub struct RenderArgs {
     /// Wavelength range MIN:MAX in nm of --spectral-bins (default 360:830, the sampled range).
     #[arg(long, value_name = "MIN:MAX", value_parser = parse_range, requires = "spectral_bins")]
     pub spectral_range: Option<(f64, f64)>,
-    /// What lights a scene that has no light (glTF and OBJ models often have none): `env`, a
-    /// uniform white environment of luminance 1 (default, with a warning), or `none` (a black
-    /// image, with a warning).
-    #[arg(long, default_value = "env", value_parser = DefaultLight::from_name)]
+    /// A uniform white environment of luminance 1 beside the scene's lights: `auto` (default)
+    /// adds it only to a scene without light (glTF and OBJ models often have none), with a
+    /// warning; `env` adds it to every scene; `none` never (a scene without light renders black,
+    /// with a warning).
+    #[arg(long, default_value = "auto", value_parser = DefaultLight::from_name)]
     pub default_light: DefaultLight,
     /// Exposure of the PNG preview: `auto` (default: the log-average luminance becomes mid-grey
     /// 0.18) or stops EV (the image is scaled by 2^EV; 0 shows the values as they are).
