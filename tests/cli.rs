@@ -469,6 +469,32 @@ fn outputs_are_checked_for_kind_and_extension_before_rendering() {
     assert!(status.success() && upper.exists(), "{stderr}");
 }
 
+/// The command line's frictions of issue 52: `--method foo` is a command-line error (exit 2,
+/// as every other bad argument; it was 1), `--camera NAME` picks a file's camera by name (and
+/// an unknown name lists the cameras), and `render --help` names every format of the importer
+/// table (it omitted USD) and shows the common options before the rare ones.
+#[test]
+fn method_camera_and_help_on_the_command_line() {
+    let s = write_scene(GOOD, &[]);
+    let out = s.dir.path().join("out.exr");
+    let (status, stderr) = render_cli(&s.path, &out, ["--method", "foo"]);
+    assert_eq!(status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("unknown method `foo`") && stderr.contains("adaptive+quasi"), "{stderr}");
+    let (status, stderr) = render_cli(&s.path, &out, ["--camera", "Side"]);
+    assert!(!status.success() && stderr.contains("no camera named `Side`"), "{stderr}");
+    assert!(!out.exists());
+    let gltf = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/gltf-showcase/showcase.gltf");
+    let (status, stderr) = render_cli(&gltf, &out, ["--camera", "Top", "--spp", "1", "--width", "8", "--height", "6"]);
+    assert!(status.success(), "{stderr}");
+    let o = quasar().args(["render", "--help"]).output().unwrap();
+    let help = String::from_utf8_lossy(&o.stdout);
+    for ext in quasar_importers::supported_extensions() {
+        assert!(help.contains(&format!(".{ext}")), "render --help omits .{ext}: {help}");
+    }
+    let at = |flag: &str| help.find(flag).unwrap_or_else(|| panic!("{flag} missing"));
+    assert!(at("--output") < at("--units") && at("--spp") < at("--allow-external-paths"), "{help}");
+}
+
 /// A `--target-error` that `--time` cuts short is reported on stderr and in the header
 /// (`target_error_reached`), and a reached one says so (issue 18).
 #[test]

@@ -1,8 +1,9 @@
 //! quasar-importers: the plain-data [`SceneDesc`] and the importers that produce it.
 //!
 //! [`import_scene`] picks the importer by file extension from the table in [`registry`]:
-//! `.toml` (the native scene format, see `docs/scene-format.md`), `.obj` (Wavefront OBJ/MTL) and
-//! `.gltf`/`.glb` (glTF 2.0, see `docs/gltf.md`).
+//! `.toml` (the native scene format, see `docs/scene-format.md`), `.obj` (Wavefront OBJ/MTL),
+//! `.gltf`/`.glb` (glTF 2.0, see `docs/gltf.md`) and `.usd`/`.usda`/`.usdc`/`.usdz` (USD, see
+//! `docs/usd.md`).
 //! Every error is an [`ImportError`] whose message starts with `file:line:col:`.
 #![warn(missing_docs)]
 

@@ -378,3 +378,40 @@ pub struct SceneDesc {
     /// Virtual illuminance sensors (`[[sensor]]`), measured in the same run as the image.
     pub sensors: Vec<crate::sensor_desc::SensorDesc>,
 }
+
+impl SceneDesc {
+    /// Makes the file's camera named `name` the scene camera (`quasar render --camera NAME`, as
+    /// TOML's `[camera] name` does for included files); its aspect ratio, when the file gives
+    /// one, sets `render.width` for `render.height`. An unknown name is an error naming the
+    /// scene file and listing the cameras it has.
+    pub fn use_camera(&mut self, name: &str) -> Result<(), String> {
+        let Some(c) = self.cameras.iter().find(|c| c.name == name) else {
+            let names: Vec<&str> = self.cameras.iter().map(|c| c.name.as_str()).collect();
+            let has = if names.is_empty() { "none".to_string() } else { names.join(", ") };
+            return Err(format!("{}: no camera named `{name}` (the scene's cameras: {has})", self.source.display()));
+        };
+        self.camera = c.camera.clone();
+        if let Some(a) = c.aspect {
+            self.render.width = (self.render.height as f32 * a).round().clamp(1.0, 65536.0) as u32;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_camera_is_chosen_by_name() {
+        let mut desc = SceneDesc { source: "s.gltf".into(), ..Default::default() };
+        let front = CameraDesc { position: Vec3::new(0.0, 0.0, 9.0), ..Default::default() };
+        desc.cameras.push(NamedCamera { name: "Top".into(), camera: CameraDesc::default(), aspect: None });
+        desc.cameras.push(NamedCamera { name: "Front".into(), camera: front.clone(), aspect: Some(2.0) });
+        desc.render.height = 100;
+        desc.use_camera("Front").unwrap();
+        assert_eq!((desc.camera.clone(), desc.render.width), (front, 200));
+        let e = desc.use_camera("Side").unwrap_err();
+        assert!(e.contains("s.gltf") && e.contains("`Side`") && e.contains("Top, Front"), "{e}");
+    }
+}

@@ -27,7 +27,7 @@ struct Cli {
 #[derive(Subcommand)]
 #[allow(clippy::large_enum_variant)] // parsed once per process; size does not matter
 enum Command {
-    /// Render a scene (.toml, .obj, .gltf, .glb) to a multi-layer OpenEXR file.
+    /// Render a scene (.toml, .obj, .gltf, .glb, .usd, .usda, .usdc, .usdz) to a multi-layer OpenEXR file.
     Render(render::RenderArgs),
     /// Compare an image with a reference: RMSE, relMSE, mean relative and max error per layer.
     Compare {

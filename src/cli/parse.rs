@@ -132,3 +132,14 @@ mod tests {
         assert!(parse_range("5:5").is_err() && parse_range("1000").is_err() && parse_range("a:3").is_err());
     }
 }
+
+/// Parses `--method`: `auto` or a row of the method table; another name is a command-line
+/// error (exit code 2, as every other bad argument) listing the names.
+pub fn parse_method(s: &str) -> Result<String, String> {
+    let names = quasar::integrator::method::method_names();
+    if names.contains(&s) {
+        Ok(s.to_string())
+    } else {
+        Err(format!("unknown method `{s}` (expected one of: {})", names.join(", ")))
+    }
+}

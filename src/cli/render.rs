@@ -17,32 +17,26 @@ use quasar_importers::ImportOptions;
 use quasar_materials::spectrum::{LAMBDA_MAX, LAMBDA_MIN};
 
 use super::parse::{
-    IsaArg, parse_exposure, parse_isa, parse_masking, parse_positive, parse_range, parse_shard, parse_threads,
-    parse_time_code, parse_units, same_file,
+    IsaArg, parse_exposure, parse_isa, parse_masking, parse_method, parse_positive, parse_range, parse_shard,
+    parse_threads, parse_time_code, parse_units, same_file,
 };
 
 /// The arguments of `quasar render`.
 #[derive(clap::Args)]
 pub struct RenderArgs {
-    /// Scene file.
+    /// Scene file: quasar TOML (.toml), OBJ (.obj), glTF (.gltf, .glb) or USD (.usd, .usda,
+    /// .usdc, .usdz).
     pub scene: PathBuf,
-    /// Let glTF files refer to files by absolute paths or outside their folder.
-    #[arg(long)]
-    pub allow_external_paths: bool,
-    /// Extra length unit of the scene file (m, cm, mm, in, ft, or a factor in metres), e.g.
-    /// `--units mm` for a glTF exported in millimetres (applies on top of a TOML `units`).
-    #[arg(long, value_parser = parse_units)]
-    pub units: Option<f32>,
-    /// The USD time code animated attributes and transforms are read at (default: the earliest
-    /// time sample).
-    #[arg(long, value_parser = parse_time_code)]
-    pub time_code: Option<f64>,
     /// Output EXR (default: the scene's name with .exr, in the current directory).
     #[arg(short, long)]
     pub output: Option<PathBuf>,
     /// Integration method (default: the scene's, else auto).
-    #[arg(long, long_help = method_help())]
+    #[arg(long, long_help = method_help(), value_parser = parse_method)]
     pub method: Option<String>,
+    /// Render through the scene file's camera of this name (a glTF or USD camera, or one of a
+    /// TOML scene's included files; `quasar info` lists them) instead of the scene camera.
+    #[arg(long, value_name = "NAME")]
+    pub camera: Option<String>,
     /// Samples per pixel (at least 1).
     #[arg(long, conflicts_with = "time", value_parser = clap::value_parser!(u32).range(1..))]
     pub spp: Option<u32>,
@@ -62,10 +56,6 @@ pub struct RenderArgs {
     /// Worker threads (default, and 0: all cores; at most 4 per core).
     #[arg(long, value_parser = parse_threads)]
     pub threads: Option<usize>,
-    /// Instruction set of the render kernels: auto (default: x86-64-v3 where the CPU has AVX2
-    /// and FMA, else the portable baseline), baseline or x86-64-v3. Both give the same image.
-    #[arg(long, value_name = "ISA", default_value = "auto", value_parser = parse_isa)]
-    pub isa: IsaArg,
     /// Seed of the random streams.
     #[arg(long)]
     pub seed: Option<u64>,
@@ -82,10 +72,6 @@ pub struct RenderArgs {
     /// --spp / --iterations or a new --time extends it).
     #[arg(long)]
     pub resume: Option<PathBuf>,
-    /// Microfacet masking-shadowing of the GGX materials: height-correlated (default) or
-    /// separable (Mitsuba 3's and pbrt-v3's form, for comparisons with them).
-    #[arg(long, value_parser = parse_masking)]
-    pub masking: Option<quasar_materials::Masking>,
     /// Add the `illuminance.Y` layer (lux at the first surface of each pixel-centre ray) with N
     /// samples per pixel (default: the scene's `illuminance_samples`, else no layer).
     #[arg(long, value_name = "N")]
@@ -126,6 +112,25 @@ pub struct RenderArgs {
     /// Value range MIN:MAX of the --false-colour map (default: fitted to the image).
     #[arg(long, value_parser = parse_range)]
     pub false_colour_range: Option<(f64, f64)>,
+    /// Let glTF files refer to files by absolute paths or outside their folder.
+    #[arg(long)]
+    pub allow_external_paths: bool,
+    /// Extra length unit of the scene file (m, cm, mm, in, ft, or a factor in metres), e.g.
+    /// `--units mm` for a glTF exported in millimetres (applies on top of a TOML `units`).
+    #[arg(long, value_parser = parse_units)]
+    pub units: Option<f32>,
+    /// The USD time code animated attributes and transforms are read at (default: the earliest
+    /// time sample).
+    #[arg(long, value_parser = parse_time_code)]
+    pub time_code: Option<f64>,
+    /// Instruction set of the render kernels: auto (default: x86-64-v3 where the CPU has AVX2
+    /// and FMA, else the portable baseline), baseline or x86-64-v3. Both give the same image.
+    #[arg(long, value_name = "ISA", default_value = "auto", value_parser = parse_isa)]
+    pub isa: IsaArg,
+    /// Microfacet masking-shadowing of the GGX materials: height-correlated (default) or
+    /// separable (Mitsuba 3's and pbrt-v3's form, for comparisons with them).
+    #[arg(long, value_parser = parse_masking)]
+    pub masking: Option<quasar_materials::Masking>,
     /// Do not show a progress bar.
     #[arg(long)]
     pub quiet: bool,
@@ -208,6 +213,7 @@ pub fn render(args: RenderArgs) -> Result<ExitCode> {
         time_code,
         output,
         method,
+        camera,
         spp,
         time,
         target_error,
@@ -234,6 +240,9 @@ pub fn render(args: RenderArgs) -> Result<ExitCode> {
         quiet,
     } = args;
     let mut desc = super::load(&scene, &ImportOptions { allow_external_paths, units_scale: units, time_code })?;
+    if let Some(name) = &camera {
+        desc.use_camera(name).map_err(anyhow::Error::msg)?;
+    }
     if let Some(w) = add_default_light(&mut desc, default_light) {
         eprintln!("warning: {w}");
     }
