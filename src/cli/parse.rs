@@ -105,6 +105,17 @@ pub fn parse_range(s: &str) -> Result<(f64, f64), String> {
     Ok((a, b))
 }
 
+/// Parses `--method`: `auto` or a row of the method table; another name is a command-line
+/// error (exit code 2, as every other bad argument) listing the names.
+pub fn parse_method(s: &str) -> Result<String, String> {
+    let names = quasar::integrator::method::method_names();
+    if names.contains(&s) {
+        Ok(s.to_string())
+    } else {
+        Err(format!("unknown method `{s}` (expected one of: {})", names.join(", ")))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -130,16 +141,5 @@ mod tests {
         assert_eq!(parse_positive("2.5"), Ok(2.5));
         assert_eq!(parse_range("10:1000"), Ok((10.0, 1000.0)));
         assert!(parse_range("5:5").is_err() && parse_range("1000").is_err() && parse_range("a:3").is_err());
-    }
-}
-
-/// Parses `--method`: `auto` or a row of the method table; another name is a command-line
-/// error (exit code 2, as every other bad argument) listing the names.
-pub fn parse_method(s: &str) -> Result<String, String> {
-    let names = quasar::integrator::method::method_names();
-    if names.contains(&s) {
-        Ok(s.to_string())
-    } else {
-        Err(format!("unknown method `{s}` (expected one of: {})", names.join(", ")))
     }
 }
