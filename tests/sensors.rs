@@ -167,6 +167,8 @@ fn render_writes_the_sensor_csv() {
     let csv = std::fs::read_to_string(s.dir.path().join("img.centre.csv")).unwrap();
     let lines: Vec<&str> = csv.lines().collect();
     assert!(lines[1].starts_with("# Emin") && lines[1].contains("U0 = Emin/Eavg"), "{csv}");
+    // every statistic with its standard error, and the points called points (issue 52)
+    assert!(lines[1].matches(" +- ").count() == 5 && lines[0].contains("1 point,"), "{csv}");
     assert_eq!(lines[2], "x_m,y_m,z_m,E_lx,stderr_lx");
     let e: f64 = lines[3].split(',').nth(3).unwrap().parse().unwrap();
     let want = 0.01 * f64::from(LUMINANCE_PER_Y) * 4.0 * corner(0.6, 0.6, 2.0);

@@ -1,7 +1,7 @@
 //! Measuring the `[[sensor]]`s of a scene (docs/photometry.md): every meter's illuminance in lux,
 //! E_v = 683 lm/W x integral of E ybar = 72 983 x Y(E), with its standard error, and the
 //! lighting-practice statistics of each sensor (Emin, Eavg, Emax, uniformities U0 = Emin/Eavg
-//! and Emin/Emax), written as CSV.
+//! and Emin/Emax) with their standard errors, written as CSV.
 
 use glam::Vec3;
 use quasar_importers::photometric::LUMINANCE_PER_Y;
@@ -18,17 +18,17 @@ use crate::integrator::illuminance::illuminance_sample;
 pub struct SensorReading {
     /// The sensor's name.
     pub name: String,
-    /// Meter positions (metres).
+    /// Measuring points (metres).
     pub points: Vec<Vec3>,
-    /// The meters' normal.
+    /// The points' normal (planar illuminance).
     pub normal: Vec3,
-    /// Illuminance per meter (lx).
+    /// Illuminance per point (lx).
     pub lux: Vec<f64>,
     /// Standard error of each value (lx).
     pub stderr: Vec<f64>,
-    /// Samples per meter.
+    /// Samples per point.
     pub samples: u32,
-    /// What the meters measure.
+    /// What the points measure.
     pub quantity: SensorQuantity,
 }
 
@@ -46,6 +46,20 @@ pub struct SensorStats {
     /// Emin / Emax (0 when Emax is 0).
     pub min_over_max: f64,
 }
+
+impl SensorStats {
+    /// The statistics of `values` (lx).
+    pub fn of(values: &[f64]) -> Self {
+        let min = values.iter().copied().fold(f64::INFINITY, f64::min);
+        let max = values.iter().copied().fold(0.0, f64::max);
+        let avg = values.iter().sum::<f64>() / values.len().max(1) as f64;
+        let ratio = |a: f64, b: f64| if b > 0.0 { a / b } else { 0.0 };
+        Self { min, avg, max, u0: ratio(min, avg), min_over_max: ratio(min, max) }
+    }
+}
+
+/// Draws of the parametric bootstrap behind [`SensorReading::stats_stderr`].
+const BOOTSTRAP_DRAWS: u32 = 400;
 
 /// Measures `sensor` in `scene` (meters in parallel; meter k, sample s uses the random numbers
 /// of `(seed, k, s)`).
@@ -113,29 +127,64 @@ fn lux_sample(
 impl SensorReading {
     /// The statistics of the values.
     pub fn stats(&self) -> SensorStats {
-        let min = self.lux.iter().copied().fold(f64::INFINITY, f64::min);
-        let max = self.lux.iter().copied().fold(0.0, f64::max);
-        let avg = self.lux.iter().sum::<f64>() / self.lux.len().max(1) as f64;
-        let ratio = |a: f64, b: f64| if b > 0.0 { a / b } else { 0.0 };
-        SensorStats { min, avg, max, u0: ratio(min, avg), min_over_max: ratio(min, max) }
+        SensorStats::of(&self.lux)
     }
 
-    /// The CSV: `#` header lines (name, normal, samples, the statistics), then
-    /// `x_m,y_m,z_m,E_lx,stderr_lx` per meter.
+    /// The standard error of each statistic, by a parametric bootstrap: the statistics of
+    /// [`BOOTSTRAP_DRAWS`] readings whose every point is drawn from a normal distribution of the
+    /// point's value and standard error (independent points: each has its own samples), and
+    /// their standard deviation over the draws. Emin and Emax are order statistics, so where
+    /// several points lie within their errors of the minimum the spread also says how much the
+    /// noise picks the smallest one (deterministic: the draws' random numbers are fixed).
+    pub fn stats_stderr(&self) -> SensorStats {
+        let mut draws: Vec<SensorStats> = Vec::with_capacity(BOOTSTRAP_DRAWS as usize);
+        let mut values = vec![0.0; self.lux.len()];
+        for d in 0..BOOTSTRAP_DRAWS {
+            for (k, ((v, &e), &se)) in values.iter_mut().zip(&self.lux).zip(&self.stderr).enumerate() {
+                let mut sampler = Sampler::new(0x5e45_57a7, k as u64, u64::from(d));
+                let [u1, u2] = sampler.get_2d().to_array().map(f64::from);
+                // Box-Muller, u1 kept away from 0
+                let g = (-2.0 * (1.0 - u1).max(1e-300).ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos();
+                *v = (e + se * g).max(0.0);
+            }
+            draws.push(SensorStats::of(&values));
+        }
+        let sd = |f: fn(&SensorStats) -> f64| {
+            let n = draws.len() as f64;
+            let mean = draws.iter().map(f).sum::<f64>() / n;
+            (draws.iter().map(|s| (f(s) - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt()
+        };
+        SensorStats {
+            min: sd(|s| s.min),
+            avg: sd(|s| s.avg),
+            max: sd(|s| s.max),
+            u0: sd(|s| s.u0),
+            min_over_max: sd(|s| s.min_over_max),
+        }
+    }
+
+    /// The CSV: `#` header lines (name, normal, samples, the statistics with their standard
+    /// errors), then `x_m,y_m,z_m,E_lx,stderr_lx` per point.
     pub fn csv(&self) -> String {
-        let s = self.stats();
+        let (s, e) = (self.stats(), self.stats_stderr());
         let n = self.normal;
         let what = match self.quantity {
-            SensorQuantity::Planar => format!("illuminance (lx) on meters with normal ({}, {}, {})", n.x, n.y, n.z),
+            SensorQuantity::Planar => format!("illuminance (lx) at points with normal ({}, {}, {})", n.x, n.y, n.z),
             SensorQuantity::Cylindrical => "cylindrical illuminance (lx, vertical axis +Y)".to_string(),
             SensorQuantity::SemiCylindrical { facing: f } => {
                 format!("semi-cylindrical illuminance (lx, vertical axis +Y, facing ({}, {}, {}))", f.x, f.y, f.z)
             }
         };
-        let mut out = format!("# quasar sensor {}: {what}, {} samples each\n", self.name, self.samples);
+        let mut out = format!(
+            "# quasar sensor {}: {what}, {} point{}, {} samples each\n",
+            self.name,
+            self.points.len(),
+            if self.points.len() == 1 { "" } else { "s" },
+            self.samples
+        );
         out += &format!(
-            "# Emin {:.4} lx, Eavg {:.4} lx, Emax {:.4} lx, U0 = Emin/Eavg {:.4}, Emin/Emax {:.4}\n",
-            s.min, s.avg, s.max, s.u0, s.min_over_max
+            "# Emin {:.4} +- {:.4} lx, Eavg {:.4} +- {:.4} lx, Emax {:.4} +- {:.4} lx, U0 = Emin/Eavg {:.4} +- {:.4}, Emin/Emax {:.4} +- {:.4} (+- one standard error)\n",
+            s.min, e.min, s.avg, e.avg, s.max, e.max, s.u0, e.u0, s.min_over_max, e.min_over_max
         );
         out += "x_m,y_m,z_m,E_lx,stderr_lx\n";
         for ((p, e), se) in self.points.iter().zip(&self.lux).zip(&self.stderr) {
@@ -146,16 +195,20 @@ impl SensorReading {
 
     /// One line for the terminal.
     pub fn summary(&self) -> String {
-        let s = self.stats();
+        let (s, e) = (self.stats(), self.stats_stderr());
         format!(
-            "sensor {}: {} meter{}, Emin {:.1} lx, Eavg {:.1} lx, Emax {:.1} lx, U0 {:.3}",
+            "sensor {}: {} point{}, Emin {:.1} +- {:.1} lx, Eavg {:.1} +- {:.1} lx, Emax {:.1} +- {:.1} lx, U0 {:.3} +- {:.3}",
             self.name,
             self.points.len(),
             if self.points.len() == 1 { "" } else { "s" },
             s.min,
+            e.min,
             s.avg,
+            e.avg,
             s.max,
-            s.u0
+            e.max,
+            s.u0,
+            e.u0
         )
     }
 }
@@ -201,4 +254,45 @@ pub fn illuminance_pass(
         })
         .unzip();
     (mean, stderr, n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn reading(lux: Vec<f64>, stderr: Vec<f64>) -> SensorReading {
+        SensorReading {
+            name: "grid".into(),
+            points: vec![Vec3::ZERO; lux.len()],
+            normal: Vec3::Y,
+            lux,
+            stderr,
+            samples: 64,
+            quantity: SensorQuantity::Planar,
+        }
+    }
+
+    /// The bootstrap's standard errors match the first-order ones where those are known: Eavg's
+    /// is sqrt(sum se^2) / N; with one point far below the others, Emin's is that point's and
+    /// U0's about se_min / Eavg. Exact values have none.
+    #[test]
+    fn statistics_carry_their_standard_errors() {
+        let mut lux = vec![100.0; 50];
+        let mut se = vec![2.0; 50];
+        lux[7] = 40.0;
+        se[7] = 1.0;
+        let r = reading(lux, se);
+        let (s, e) = (r.stats(), r.stats_stderr());
+        let avg_se = (49.0 * 4.0 + 1.0f64).sqrt() / 50.0;
+        assert!((e.avg / avg_se - 1.0).abs() < 0.12, "{} vs {avg_se}", e.avg);
+        assert!((e.min - 1.0).abs() < 0.12, "{}", e.min);
+        assert!((e.u0 / (1.0 / s.avg) - 1.0).abs() < 0.15, "{} vs {}", e.u0, 1.0 / s.avg);
+        // the largest of 49 standard normals has a standard deviation of 0.466
+        assert!((e.max / (0.466 * 2.0) - 1.0).abs() < 0.12, "{}", e.max);
+        let exact = reading(vec![3.0, 5.0], vec![0.0, 0.0]).stats_stderr();
+        assert_eq!((exact.min, exact.avg, exact.max, exact.u0), (0.0, 0.0, 0.0, 0.0));
+        let csv = r.csv();
+        assert!(csv.contains("50 points") && csv.contains("U0 = Emin/Eavg") && csv.contains(" +- "), "{csv}");
+        assert!(r.summary().contains("50 points, Emin 40.0 +- 1.0 lx"), "{}", r.summary());
+    }
 }
