@@ -495,6 +495,27 @@ fn method_camera_and_help_on_the_command_line() {
     assert!(at("--output") < at("--units") && at("--spp") < at("--allow-external-paths"), "{help}");
 }
 
+/// Without a terminal (a log file, a batch job) a render prints plain progress lines with the
+/// unit of the work done (issue 52: nothing was shown, and the bar said "N done").
+#[test]
+fn progress_lines_in_logs() {
+    let s = write_scene(GOOD, &[]);
+    let out = s.dir.path().join("out.exr");
+    for (method, unit) in [("pt", "samples per pixel done"), ("vismap", "iterations done")] {
+        let o = quasar()
+            .args(["render", "--method", method, "--spp", "4"])
+            .arg(&s.path)
+            .arg("-o")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "{stderr}");
+        let line = stderr.lines().find(|l| l.starts_with("progress: ")).unwrap_or_else(|| panic!("{stderr}"));
+        assert!(line.contains(unit) && line.contains("% after"), "{line}");
+    }
+}
+
 /// A `--target-error` that `--time` cuts short is reported on stderr and in the header
 /// (`target_error_reached`), and a reached one says so (issue 18).
 #[test]

@@ -30,6 +30,9 @@ pub trait RenderMethod: Send {
     /// methods whose pixels share work within a unit).
     fn new_film(&self, width: u32, height: u32) -> Film;
 
+    /// What one unit is, in the plural, for progress lines ("samples per pixel", "iterations").
+    fn unit_name(&self) -> &'static str;
+
     /// Largest number of units one pass may render (1 for methods whose units cost a whole
     /// image each).
     fn max_pass(&self) -> u32;

@@ -79,6 +79,10 @@ impl<E: PixelEstimator> RenderMethod for PerPixel<'_, E> {
         Film::new(width, height)
     }
 
+    fn unit_name(&self) -> &'static str {
+        "samples per pixel"
+    }
+
     fn max_pass(&self) -> u32 {
         64
     }

@@ -2,11 +2,12 @@
 //! pbrt-v4's `ImageTileIntegrator::Render`). A method ([`RenderMethod`]) renders *units* —
 //! samples per pixel for `pt`, iterations for the bidirectional methods — in passes; the driver
 //! owns everything around them: the unit budget of this shard, the time budget and the error target, the
-//! interruption (Ctrl-C), the progress bar, periodic and final checkpoints (the film plus the
+//! interruption (Ctrl-C), the progress bar (plain lines when stderr is no terminal), periodic and final checkpoints (the film plus the
 //! method's opaque state), the thread pool and the depth layer. Determinism is the methods'
 //! business: every unit has its own random streams and the film sums them in unit order, so a
 //! pass's size never changes the image.
 
+use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
@@ -104,7 +105,11 @@ fn run_in_pool(
     let total = opts.units.max(1);
     let pixels = w as u64 * h as u64;
     let kind = Progress::of(opts, pixels * total.saturating_sub(done) as u64);
-    let progress = opts.progress.then(|| kind.bar());
+    let unit = method.unit_name();
+    let progress = opts.progress.then(|| std::io::stderr().is_terminal()).and_then(|t| t.then(|| kind.bar()));
+    // without a terminal (a log file, a batch job): a plain line after the first pass, then
+    // every PROGRESS_LINE_INTERVAL_S (the elapsed time of the next line is kept here)
+    let mut next_line = (opts.progress && progress.is_none()).then_some(0.0f64);
     let (mut rendered, render_start) = (0u32, Instant::now());
     let inc = |n: u64| {
         if let Some(b) = &progress {
@@ -146,7 +151,26 @@ fn run_in_pool(
         done += n;
         rendered += n;
         if let Some(b) = &progress {
-            b.set_message(progress_message(done, film.estimated_rel_error(), opts.target_error));
+            b.set_message(progress_message(done, unit, film.estimated_rel_error(), opts.target_error));
+        }
+        let elapsed = render_start.elapsed().as_secs_f64();
+        if let Some(next) = &mut next_line
+            && elapsed >= *next
+        {
+            *next = elapsed + PROGRESS_LINE_INTERVAL_S;
+            let share = match opts.time_limit {
+                Some(t) => (elapsed / t).min(1.0),
+                None => f64::from(rendered) / f64::from(total.saturating_sub(done - rendered).max(1)),
+            };
+            eprintln!(
+                "{}",
+                progress_line(
+                    share,
+                    elapsed,
+                    &progress_message(done, unit, film.estimated_rel_error(), opts.target_error),
+                    kind
+                )
+            );
         }
         if super::interrupt::requested() {
             interrupted = true;
@@ -229,13 +253,29 @@ impl Progress {
     }
 }
 
-/// The bar's message after a pass: units done and the image's estimated error (against the
-/// target when there is one).
-fn progress_message(done: u32, error: f64, target: Option<f64>) -> String {
+/// Seconds between two progress lines when stderr is not a terminal (the first comes after the
+/// first pass).
+const PROGRESS_LINE_INTERVAL_S: f64 = 10.0;
+
+/// The bar's message after a pass: units done, with their unit, and the image's estimated error
+/// (against the target when there is one).
+fn progress_message(done: u32, unit: &str, error: f64, target: Option<f64>) -> String {
+    let error = if error.is_finite() { format!("error {error:.4}") } else { "error not estimated yet".into() };
     match target {
-        Some(t) => format!("{done} done, error {error:.4} (target {t})"),
-        None => format!("{done} done, error {error:.4}"),
+        Some(t) => format!("{done} {unit} done, {error} (target {t})"),
+        None => format!("{done} {unit} done, {error}"),
     }
+}
+
+/// A plain progress line for logs: the share of the budget done (of the time under `--time`),
+/// the time elapsed, the time left where the budget is known, and the bar's message.
+fn progress_line(share: f64, elapsed: f64, message: &str, kind: Progress) -> String {
+    let left = match kind {
+        Progress::Open => String::new(),
+        _ if share > 0.0 => format!(", about {:.0} s left", elapsed * (1.0 - share) / share),
+        _ => String::new(),
+    };
+    format!("progress: {:.1}% after {elapsed:.0} s{left}; {message}", 100.0 * share)
 }
 
 /// Distance to the first surface along each pixel-centre ray (infinity for misses).
@@ -275,6 +315,15 @@ mod tests {
         assert_eq!(Progress::of(&opts(Some(1.0), Some(0.01)), 1 << 40), Progress::Time(1000));
         assert_eq!(Progress::of(&opts(None, Some(0.01)), 1 << 40), Progress::Open);
         assert_eq!(Progress::of(&opts(None, None), 640), Progress::Samples(640));
-        assert_eq!(progress_message(12, 0.01234, Some(0.01)), "12 done, error 0.0123 (target 0.01)");
+        assert_eq!(
+            progress_message(12, "iterations", 0.01234, Some(0.01)),
+            "12 iterations done, error 0.0123 (target 0.01)"
+        );
+        assert_eq!(
+            progress_line(0.25, 10.0, "4 samples per pixel done, error 0.1000", Progress::Samples(64)),
+            "progress: 25.0% after 10 s, about 30 s left; 4 samples per pixel done, error 0.1000"
+        );
+        assert!(!progress_line(0.5, 10.0, "m", Progress::Open).contains("left"));
+        assert!(progress_message(1, "iterations", f64::INFINITY, None).ends_with("error not estimated yet"));
     }
 }

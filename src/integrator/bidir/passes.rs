@@ -189,6 +189,10 @@ impl RenderMethod for Bidirectional<'_> {
         Film::with_block_batches(width, height)
     }
 
+    fn unit_name(&self) -> &'static str {
+        "iterations"
+    }
+
     fn max_pass(&self) -> u32 {
         1
     }
