@@ -516,6 +516,20 @@ fn progress_lines_in_logs() {
     }
 }
 
+/// `quasar info` states every light's intensity or flux (issue 52: it listed only the types).
+#[test]
+fn info_shows_the_lights_in_photometric_units() {
+    let gltf = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/gltf-showcase/showcase.gltf");
+    let o = quasar().arg("info").arg(&gltf).output().unwrap();
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for needle in
+        ["point light at", " cd, ", "spot light at", "directional light towards", " lx ", "emissive mesh", " lm ("]
+    {
+        assert!(text.contains(needle), "{needle:?} missing: {text}");
+    }
+}
+
 /// A `--target-error` that `--time` cuts short is reported on stderr and in the header
 /// (`target_error_reached`), and a reached one says so (issue 18).
 #[test]

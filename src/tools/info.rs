@@ -41,35 +41,13 @@ pub fn report(path: &Path, desc: &SceneDesc, compiled: &Scene) -> String {
         let names: Vec<&str> = desc.cameras.iter().map(|c| c.name.as_str()).collect();
         let _ = writeln!(s, "cameras in the file: {}", names.join(", "));
     }
-    for l in &desc.lights {
-        if let quasar_importers::LightDesc::Luminaire { position, frame, web, scale, spectrum, opening } = l {
-            let per_cd = quasar_importers::photometric::photometric_scale(1.0);
-            let factor = scale / per_cd * spectrum.luminance();
-            let stated = web.lamp_lumens.map_or("absolute photometry".to_string(), |l| format!("lamp {} lm", num(l)));
-            let _ = writeln!(
-                s,
-                "luminaire: {} ({}) at {}, nadir towards {}: {} lm ({stated}), peak {} cd, x {}, {}",
-                web.file.display(),
-                if web.label.is_empty() { "no label" } else { &web.label },
-                vec3(*position),
-                vec3(glam::Vec3::ZERO - frame.z_axis),
-                num(web.flux() as f32 * factor),
-                num(web.max_candela() * factor),
-                num(factor),
-                match opening {
-                    quasar_importers::LuminousOpening::Point => "a point (far field)".to_string(),
-                    quasar_importers::LuminousOpening::Rect { c0, c90 } =>
-                        format!("opening {} x {} m (C0 x C90)", num(*c0), num(*c90)),
-                    quasar_importers::LuminousOpening::Disk { diameter } =>
-                        format!("opening a disk of {} m", num(*diameter)),
-                }
-            );
-        }
+    for line in super::light_summary::light_lines(desc) {
+        let _ = writeln!(s, "{line}");
     }
     for sensor in &desc.sensors {
         let _ = writeln!(
             s,
-            "sensor {}: {} meter(s), normal {}, {} samples each",
+            "sensor {}: {} point(s), normal {}, {} samples each",
             sensor.name,
             sensor.points().len(),
             vec3(sensor.normal),
@@ -81,7 +59,7 @@ pub fn report(path: &Path, desc: &SceneDesc, compiled: &Scene) -> String {
 }
 
 /// A number with at most 4 significant digits after trimming (`0.5`, `480.4`, `1.5e-05`).
-fn num(v: f32) -> String {
+pub(super) fn num(v: f32) -> String {
     if v == 0.0 || (1e-3..1e5).contains(&v.abs()) {
         let digits = (3 - v.abs().max(1e-3).log10().floor() as i32).clamp(0, 6) as usize;
         let t = format!("{v:.digits$}");
@@ -92,7 +70,7 @@ fn num(v: f32) -> String {
 }
 
 /// A point as `(x, y, z)` with [`num`]'s digits.
-fn vec3(v: glam::Vec3) -> String {
+pub(super) fn vec3(v: glam::Vec3) -> String {
     format!("({}, {}, {})", num(v.x), num(v.y), num(v.z))
 }
 

@@ -7,6 +7,7 @@ pub mod compare;
 pub mod convergence;
 pub mod import_bench;
 pub mod info;
+pub mod light_summary;
 pub mod material_library;
 pub mod merge;
 pub mod mitsuba_export;
