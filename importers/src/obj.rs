@@ -32,7 +32,9 @@
 //!
 //! Without any `mtllib`, every mesh gets a default grey diffuse material (reflectance 0.8,
 //! two-sided) named after its `usemtl` name (or `default`). With an `mtllib`, a `usemtl` name
-//! that no library defines is an error; a missing library file is an error naming the OBJ line.
+//! that no library defines is an error (with the nearest name); a missing library file is a
+//! warning naming the OBJ line, and the names it should define get the grey default, as in
+//! Blender and tinyobjloader.
 
 use std::collections::HashMap;
 use std::fs::File;
@@ -105,26 +107,29 @@ struct MtlMaterial {
 }
 
 /// Resolves an `mtllib` argument: the whole text as one file name if it exists, else each
-/// whitespace-separated name.
-fn resolve_mtllib(obj: &Path, lib: &obj_lint::MtlLib) -> Result<Vec<PathBuf>, ImportError> {
+/// whitespace-separated name. Returns the files found and a warning per missing one (naming the
+/// OBJ line: Blender and tinyobjloader warn and go on, and so does quasar).
+fn resolve_mtllib(obj: &Path, lib: &obj_lint::MtlLib) -> (Vec<PathBuf>, Vec<String>) {
     let dir = obj.parent().unwrap_or(Path::new(""));
     let whole = dir.join(&lib.names);
     if whole.is_file() {
-        return Ok(vec![whole]);
+        return (vec![whole], Vec::new());
     }
-    let mut out = Vec::new();
+    let (mut found, mut missing) = (Vec::new(), Vec::new());
     for name in lib.names.split_whitespace() {
         let p = dir.join(name);
-        if !p.is_file() {
-            return Err(ImportError::new(
-                ImportErrorKind::MissingFile,
-                ErrorPlace::line(obj, lib.line),
-                format!("material library `{name}` not found (looked for {})", p.display()),
+        if p.is_file() {
+            found.push(p);
+        } else {
+            missing.push(format!(
+                "{}:{}: material library `{name}` not found (looked for {}); materials it should define render as grey diffuse",
+                obj.display(),
+                lib.line,
+                p.display()
             ));
         }
-        out.push(p);
     }
-    Ok(out)
+    (found, missing)
 }
 
 /// Loads and checks one MTL file.
@@ -229,14 +234,18 @@ pub fn import_obj(path: &Path, opts: &ImportOptions, materials: ObjMaterials) ->
     if summary.triangles == 0 {
         return Err(ImportError::new(ImportErrorKind::InvalidValue, ErrorPlace::file(path), "OBJ file has no faces"));
     }
-    let warnings = crate::obj_keywords::ignored_warnings(path, &summary.ignored);
+    let mut warnings = crate::obj_keywords::ignored_warnings(path, &summary.ignored);
 
     // Material libraries: name -> material (a later definition wins, as in tobj).
     let mut libs: Vec<MtlMaterial> = Vec::new();
     let mut lib_files: Vec<PathBuf> = Vec::new();
+    let mut libs_missing = false;
     if materials == ObjMaterials::FromMtl {
         for lib in &summary.mtllibs {
-            for file in resolve_mtllib(path, lib)? {
+            let (found, missing) = resolve_mtllib(path, lib);
+            libs_missing |= !missing.is_empty();
+            warnings.extend(missing);
+            for file in found {
                 libs.extend(load_mtl(&file).map_err(|e| e.included_from(ErrorPlace::line(path, lib.line)))?);
                 lib_files.push(file);
             }
@@ -269,7 +278,9 @@ pub fn import_obj(path: &Path, opts: &ImportOptions, materials: ObjMaterials) ->
                         };
                         (mat, em, src)
                     }
-                    (ObjMaterials::FromMtl, None) if !summary.mtllibs.is_empty() => {
+                    // with every library read, an undefined name is a typo worth an error; with
+                    // one missing, its materials are grey (the warning above says so)
+                    (ObjMaterials::FromMtl, None) if !summary.mtllibs.is_empty() && !libs_missing => {
                         let names: Vec<&str> = libs.iter().map(|m| m.entry.name.as_str()).collect();
                         let files: Vec<String> = lib_files.iter().map(|f| f.display().to_string()).collect();
                         return Err(ImportError::new(
