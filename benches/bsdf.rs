@@ -75,7 +75,7 @@ fn benches(c: &mut Criterion) {
     bench_pair(c, "ggx-conductor-0.3", &ggx, &tab);
 
     let lib = Path::new(env!("CARGO_MANIFEST_DIR")).join("materials/library/lightguide-narrow.toml");
-    let narrow = Material::Dielectric { ior: Ior::Constant(1.49), alpha: 0.02 };
+    let narrow = Material::Dielectric { ior: Ior::Constant(1.49), alpha: 0.02, transmittance: None };
     let table = quasar::importers::bsdf_file::load_tabulated_bsdf(&lib).unwrap();
     bench_pair(c, "pmma-interface-0.02", &narrow, &Material::Tabulated(table));
 

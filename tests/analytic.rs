@@ -178,3 +178,49 @@ fn disk_area_light_gives_the_analytic_irradiance() {
     assert!((d - expected).abs() / expected < 0.02, "disk light: {d} vs {expected}");
     assert!(d <= expected * 1.005, "a polygon cannot give more light than the disk");
 }
+
+/// A tinted glass slab (`transmittance` 0.5 per crossing, IOR 1.5, two parallel faces) seen head
+/// on against a uniform environment of radiance 1: the light reflected off the front face, R,
+/// plus all that enters and leaves, (1 - R) t^2 summed over the internal reflections (which
+/// are not tinted: R + T^2 t^2 / (1 - R) = R + (1 - R) t^2), with R = ((n - 1) / (n + 1))^2 =
+/// 0.04: 0.28. A clear slab gives 1 (issue 52: glTF's coloured glass rendered clear).
+#[test]
+fn a_tinted_glass_slab_passes_its_tint_squared() {
+    let scene = write_scene(
+        r#"
+[camera]
+position = [0, 0, 4]
+target = [0, 0, 0]
+fov_deg = 8
+[materials.tinted]
+type = "dielectric"
+ior = 1.5
+transmittance = 0.5
+[[shape]]
+type = "quad"
+center = [0, 0, 0.1]
+size = [3, 3]
+normal = [0, 0, 1]
+material = "tinted"
+[[shape]]
+type = "quad"
+center = [0, 0, -0.1]
+size = [3, 3]
+normal = [0, 0, -1]
+material = "tinted"
+[[light]]
+type = "environment"
+spectrum = { constant = 1.0 }
+scale = 1
+"#,
+        &[],
+    );
+    let (r, t) = (0.04f64, 0.5f64);
+    let want = r + (1.0 - r) * t * t;
+    for ov in [common::pt_ov(16, 16, 512, 3), common::bidir_ov(16, 16, "quasi", 128, 4096, 3)] {
+        let out = render_file(&scene.path, &ov);
+        let y = out.image.channel("XYZ.Y").unwrap();
+        let got = common::mean(y);
+        assert!((got / want - 1.0).abs() < 0.01, "{:?}: mean Y {got}, closed form {want}", ov.method);
+    }
+}

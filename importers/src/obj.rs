@@ -188,7 +188,7 @@ fn convert_mtl(m: &MtlMaterial) -> Result<(Material, Option<EmissionDesc>), Impo
             Some(n) if n > 1.0 => n,
             _ => 1.5,
         };
-        Material::Dielectric { ior: Ior::Constant(ior), alpha }
+        Material::Dielectric { ior: Ior::Constant(ior), alpha, transmittance: None }
     } else {
         let ks = t.specular.unwrap_or([0.0; 3]);
         let kd = t.diffuse.unwrap_or(if t.specular.is_some() { [0.0; 3] } else { [DEFAULT_GREY; 3] });

@@ -165,7 +165,7 @@ fn transmission_ior_volume_specular_and_emission() {
     }
     let glass = GltfWriter::push(
         &mut w.materials,
-        r#"{"name":"glass","pbrMetallicRoughness":{"metallicFactor":0,"roughnessFactor":0.2},
+        r#"{"name":"glass","pbrMetallicRoughness":{"baseColorFactor":[0.2,0.9,0.3,1],"metallicFactor":0,"roughnessFactor":0.2},
             "extensions":{"KHR_materials_transmission":{"transmissionFactor":1},"KHR_materials_ior":{"ior":1.33},
             "KHR_materials_volume":{"thicknessFactor":0.1,"attenuationColor":[0.5,1,1],"attenuationDistance":0.2},
             "KHR_materials_specular":{"specularFactor":0.5}}}"#,
@@ -183,7 +183,12 @@ fn transmission_ior_volume_specular_and_emission() {
     let d = Dir::new();
     let s = import(&d.gltf("x", &w));
     assert!(s.warnings.is_empty(), "{:?}", s.warnings);
-    assert_eq!(s.materials[0].material, Material::Dielectric { ior: Ior::Constant(1.33), alpha: 0.2 * 0.2 });
+    // the base colour tints the transmitted light (issue 52: it was dropped, coloured glass clear)
+    let tint = Some(quasar_materials::spectrum::Spectrum::rgb_reflectance([0.2, 0.9, 0.3]).unwrap());
+    assert_eq!(
+        s.materials[0].material,
+        Material::Dielectric { ior: Ior::Constant(1.33), alpha: 0.2 * 0.2, transmittance: tint }
+    );
     assert!(s.meshes[0].emission.is_none());
     let e = s.meshes[1].emission.as_ref().expect("emissive mesh is an area light");
     assert!(e.two_sided);

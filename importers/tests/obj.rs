@@ -138,8 +138,8 @@ fn mtl_mapping() {
         matches!(mat("mirror"), Material::Conductor { alpha, .. } if *alpha == 0.0),
         "no Ns: smooth; one-value Ks expands to grey"
     );
-    assert_eq!(mat("glass"), &Material::Dielectric { ior: Ior::Constant(1.52), alpha: 0.0 });
-    assert_eq!(mat("glass2"), &Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.0 });
+    assert_eq!(mat("glass"), &Material::Dielectric { ior: Ior::Constant(1.52), alpha: 0.0, transmittance: None });
+    assert_eq!(mat("glass2"), &Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.0, transmittance: None });
     assert!(matches!(mat("tr_glass"), Material::Dielectric { .. }));
     assert_eq!(
         mat("empty"),

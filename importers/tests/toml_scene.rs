@@ -240,6 +240,7 @@ ior = 1.5
 type = "dielectric"
 ior = "BK7"
 alpha = 0.1
+transmittance = {{ rgb = [0.2, 0.5, 0.9] }}
 [materials.cauchy]
 type = "dielectric"
 ior = {{ cauchy = [1.5, 0.0042] }}
@@ -274,9 +275,19 @@ ior = {{ sellmeier = {{ b = [1.03961212, 0.231792344, 1.01046945], c = [0.006000
         material(&s, "aluminium"),
         &Material::Conductor { alpha: 0.05, fresnel: ConductorFresnel::named("Al").unwrap(), two_sided: true }
     );
-    assert_eq!(material(&s, "glass"), &Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.0 });
-    assert_eq!(material(&s, "bk7"), &Material::Dielectric { ior: Ior::named("BK7").unwrap(), alpha: 0.1 });
-    assert_eq!(material(&s, "cauchy"), &Material::Dielectric { ior: Ior::Cauchy { a: 1.5, b: 0.0042 }, alpha: 0.0 });
+    assert_eq!(
+        material(&s, "glass"),
+        &Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.0, transmittance: None }
+    );
+    let tint = Some(Spectrum::rgb_reflectance([0.2, 0.5, 0.9]).unwrap());
+    assert_eq!(
+        material(&s, "bk7"),
+        &Material::Dielectric { ior: Ior::named("BK7").unwrap(), alpha: 0.1, transmittance: tint }
+    );
+    assert_eq!(
+        material(&s, "cauchy"),
+        &Material::Dielectric { ior: Ior::Cauchy { a: 1.5, b: 0.0042 }, alpha: 0.0, transmittance: None }
+    );
     assert!(matches!(material(&s, "sellmeier"), Material::Dielectric { ior: Ior::Sellmeier { .. }, .. }));
     // materials keep file order; each has its source line
     let order: Vec<&str> = s.materials.iter().map(|m| m.name.as_str()).collect();

@@ -68,6 +68,10 @@ pub enum Material {
         ior: Ior,
         /// GGX alpha (used directly; 0 = smooth).
         alpha: f32,
+        /// Factor in [0, 1] on the light transmitted at each crossing (a coloured glass's tint:
+        /// glTF's base colour of a transmissive material, Mitsuba's `specular_transmittance`);
+        /// None = clear.
+        transmittance: Option<Spectrum>,
     },
     /// Tabulated spectral BRDF/BTDF (validated on load, shared between threads).
     Tabulated(Arc<TabulatedTable>),
@@ -140,13 +144,17 @@ impl Material {
                     *two_sided,
                 ))
             }
-            Material::Dielectric { ior, alpha } => {
+            Material::Dielectric { ior, alpha, transmittance } => {
                 let eta = ior.at(wl.lambda(0));
                 if ior.is_dispersive() {
                     wl.terminate_secondary();
                 }
                 let eta = if eta.is_finite() && eta > MIN_IOR { eta } else { 1.0 };
-                Bsdf::Dielectric(DielectricBsdf::new(eta, TrowbridgeReitz::new(*alpha).with_masking(masking)))
+                let b = DielectricBsdf::new(eta, TrowbridgeReitz::new(*alpha).with_masking(masking));
+                Bsdf::Dielectric(match transmittance {
+                    Some(t) => b.with_tint(t.sample(wl)),
+                    None => b,
+                })
             }
             Material::Tabulated(t) => Bsdf::Tabulated(TabulatedBsdf::new(t, wl)),
         }
@@ -169,7 +177,12 @@ impl Material {
                 },
                 two_sided: *two_sided,
             },
-            Material::Dielectric { .. } | Material::Tabulated(_) => self.clone(),
+            Material::Dielectric { ior, alpha, transmittance } => Material::Dielectric {
+                ior: ior.clone(),
+                alpha: *alpha,
+                transmittance: transmittance.as_ref().map(Spectrum::densified),
+            },
+            Material::Tabulated(_) => self.clone(),
         }
     }
 
@@ -201,8 +214,11 @@ impl Material {
                     }
                 }
             }
-            Material::Dielectric { ior, alpha } => {
+            Material::Dielectric { ior, alpha, transmittance } => {
                 check_alpha("dielectric", *alpha)?;
+                if let Some(t) = transmittance {
+                    check_spectrum("dielectric transmittance", t, 0.0, 1.0)?;
+                }
                 for_each_nm(|l| {
                     let n = ior.at(l);
                     if !n.is_finite() || n <= MIN_IOR {
@@ -224,7 +240,7 @@ impl Material {
         match self {
             Material::Diffuse { .. } | Material::Tabulated(_) => false,
             Material::Conductor { alpha, .. } => TrowbridgeReitz::new(*alpha).effectively_smooth(),
-            Material::Dielectric { ior, alpha } => {
+            Material::Dielectric { ior, alpha, .. } => {
                 TrowbridgeReitz::new(*alpha).effectively_smooth() || *ior == Ior::Constant(1.0)
             }
         }
@@ -392,7 +408,7 @@ mod tests {
             fresnel: ConductorFresnel::Constant(Spectrum::Constant(r)),
             two_sided: false,
         };
-        let glass = |ior, alpha| Material::Dielectric { ior, alpha };
+        let glass = |ior, alpha| Material::Dielectric { ior, alpha, transmittance: None };
         // Complex IOR tables that stop at 400..700 nm are zero (|eta + ik| = 0) outside.
         let short = |v: f32| Spectrum::PiecewiseLinear { lambda: vec![400.0, 700.0], values: vec![v, v] };
         let bad = [
@@ -420,9 +436,9 @@ mod tests {
         }
         for m in [
             Material::Diffuse { reflectance: Spectrum::rgb_reflectance([1.0, 0.5, 0.0]).unwrap(), two_sided: true },
-            Material::Dielectric { ior: Ior::Constant(1.0001), alpha: 1e-4 },
-            Material::Dielectric { ior: Ior::Constant(4.0), alpha: 1.0 },
-            Material::Dielectric { ior: Ior::named("BK7").unwrap(), alpha: 0.3 },
+            Material::Dielectric { ior: Ior::Constant(1.0001), alpha: 1e-4, transmittance: None },
+            Material::Dielectric { ior: Ior::Constant(4.0), alpha: 1.0, transmittance: None },
+            Material::Dielectric { ior: Ior::named("BK7").unwrap(), alpha: 0.3, transmittance: None },
         ] {
             m.validate().unwrap();
         }
@@ -431,10 +447,10 @@ mod tests {
     #[test]
     fn bsdf_terminates_secondaries_only_for_dispersive_iors() {
         let mut w = wl();
-        let m = Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.0 };
+        let m = Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.0, transmittance: None };
         let b = m.bsdf(&mut w);
         assert!(!w.secondary_terminated() && b.is_specular() && m.is_specular() && b.has_transmission());
-        let m = Material::Dielectric { ior: Ior::named("BK7").unwrap(), alpha: 0.2 };
+        let m = Material::Dielectric { ior: Ior::named("BK7").unwrap(), alpha: 0.2, transmittance: None };
         let b = m.bsdf(&mut w);
         assert!(w.secondary_terminated() && !b.is_specular() && !m.is_specular());
         let Bsdf::Dielectric(d) = b else { unreachable!() };
@@ -445,7 +461,7 @@ mod tests {
     fn material_and_bsdf_agree_on_specularity() {
         let c =
             |alpha| Material::Conductor { alpha, fresnel: ConductorFresnel::named("Au").unwrap(), two_sided: false };
-        let d = |alpha, n| Material::Dielectric { ior: Ior::Constant(n), alpha };
+        let d = |alpha, n| Material::Dielectric { ior: Ior::Constant(n), alpha, transmittance: None };
         for m in [c(0.0), c(1e-4), c(1e-3), c(0.5), d(0.0, 1.5), d(0.2, 1.5), d(0.2, 1.0), d(5e-4, 1.3)] {
             assert_eq!(m.is_specular(), m.bsdf(&mut wl()).is_specular(), "{m:?}");
         }

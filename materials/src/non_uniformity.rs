@@ -212,7 +212,7 @@ mod tests {
         assert!(NonUniformity::of_material(&conductor(0.0)).at(0.7).is_infinite());
         let narrow = NonUniformity::of_material(&conductor(0.02)).at(0.8);
         assert!(narrow > 100.0, "{narrow}");
-        let glass = Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.02 };
+        let glass = Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.02, transmittance: None };
         assert!(NonUniformity::of_material(&glass).at(0.8) > 100.0);
         assert!(NonUniformity::of_material(&glass).at(-0.8) > 100.0);
     }
@@ -229,13 +229,21 @@ mod tests {
         // the bottom face of a glass plate (alpha 0.3) seen from inside the glass at 37 degrees:
         // its reflection is a wide lobe, its refraction into air a narrow one (Fresnel leaves the
         // reflection a few percent of the light, but kappa is relative to each lobe's own albedo)
-        let glass = NonUniformity::of_material(&Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.3 });
+        let glass = NonUniformity::of_material(&Material::Dielectric {
+            ior: Ior::Constant(1.5),
+            alpha: 0.3,
+            transmittance: None,
+        });
         let (r, t) = glass.lobes_at(-0.8);
         assert!(r < NARROW_KAPPA && t > NARROW_KAPPA, "reflection {r}, transmission {t}");
         // beyond the critical angle only steep microfacets refract: a narrow lobe or none
         assert!(glass.lobes_at(-0.3).1 > NARROW_KAPPA);
         // a narrow top face (alpha 0.01): both lobes narrow from both sides
-        let top = NonUniformity::of_material(&Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.01 });
+        let top = NonUniformity::of_material(&Material::Dielectric {
+            ior: Ior::Constant(1.5),
+            alpha: 0.01,
+            transmittance: None,
+        });
         for c in [-0.9, 0.5, 0.9] {
             let (r, t) = top.lobes_at(c);
             assert!(r > NARROW_KAPPA && t > NARROW_KAPPA, "{c}: {r} {t}");

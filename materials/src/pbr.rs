@@ -5,7 +5,9 @@
 //! quasar has one analytic lobe per material, so the layered glTF model is reduced to its dominant
 //! lobe (documented in `docs/gltf.md`):
 //! - `transmission >= 0.5` and `metallic < 0.5` -> [`Material::Dielectric`] with the glTF `ior`
-//!   (KHR_materials_ior, default 1.5); the base colour tint of the transmitted light is dropped.
+//!   (KHR_materials_ior, default 1.5) whose transmitted light the base colour tints at every
+//!   crossing (the glTF specification's and Cycles' Principled BSDF's reading; a solid glass is
+//!   crossed twice).
 //! - `metallic >= 0.5` -> [`Material::Conductor`] with the angle-independent Fresnel reflectance
 //!   F0 = base colour (bounded RGB uplift).
 //! - otherwise -> [`Material::Diffuse`] (Lambertian) with reflectance = base colour; the
@@ -62,11 +64,13 @@ fn pbr_material_with(p: &PbrParams, uplift: impl Fn([f32; 3]) -> Spectrum) -> Ma
     let roughness = unit(p.roughness);
     let alpha = roughness * roughness;
     let metallic = unit(p.metallic);
+    let colour = p.base_color.map(unit);
     if unit(p.transmission) >= PBR_LOBE_THRESHOLD && metallic < PBR_LOBE_THRESHOLD {
         let ior = if p.ior.is_finite() && p.ior >= 1.0 { p.ior } else { 1.5 };
-        return Material::Dielectric { ior: Ior::Constant(ior), alpha };
+        let transmittance = (colour != [1.0; 3]).then(|| uplift(colour));
+        return Material::Dielectric { ior: Ior::Constant(ior), alpha, transmittance };
     }
-    let base = uplift(p.base_color.map(unit));
+    let base = uplift(colour);
     if metallic >= PBR_LOBE_THRESHOLD {
         Material::Conductor { alpha, fresnel: ConductorFresnel::Constant(base), two_sided: true }
     } else {
@@ -88,7 +92,11 @@ mod tests {
         let m = pbr_material(&PbrParams { metallic: 0.6, ..p });
         assert!(matches!(m, Material::Conductor { alpha, .. } if (alpha - 0.25).abs() < 1e-6));
         let g = pbr_material(&PbrParams { transmission: 1.0, ior: 1.33, ..p });
-        assert_eq!(g, Material::Dielectric { ior: Ior::Constant(1.33), alpha: 0.25 });
+        let tint = Some(Spectrum::rgb_reflectance([0.2, 0.4, 0.6]).unwrap());
+        assert_eq!(g, Material::Dielectric { ior: Ior::Constant(1.33), alpha: 0.25, transmittance: tint });
+        // white glass is clear
+        let clear = pbr_material(&PbrParams { transmission: 1.0, base_color: [1.0; 3], ..p });
+        assert!(matches!(clear, Material::Dielectric { transmittance: None, .. }));
         // a metal does not transmit
         assert!(matches!(
             pbr_material(&PbrParams { transmission: 1.0, metallic: 1.0, ..p }),

@@ -171,7 +171,7 @@ fn tables() -> Vec<(&'static str, TabulatedTable)> {
         both_faces: false,
     }
     .tabulate(material_fn(&conductor));
-    let glass = Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.3 };
+    let glass = Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.3, transmittance: None };
     let spec_grid = GridSpec {
         grid: ScatterGrid::SpecularRelative,
         theta: power_spaced(60, std::f32::consts::PI, 1.8),

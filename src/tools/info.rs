@@ -115,13 +115,15 @@ pub fn describe_material(m: &Material) -> String {
             };
             format!("conductor, {}, {f}{}", roughness(*alpha), sided(*two_sided))
         }
-        Material::Dielectric { ior, alpha } => {
+        Material::Dielectric { ior, alpha, transmittance } => {
             let n = match ior {
                 Ior::Constant(n) => format!("ior {}", num(*n)),
                 Ior::Cauchy { a, b } => format!("ior Cauchy a {} b {} um^2", num(*a), num(*b)),
                 Ior::Sellmeier { .. } => "ior Sellmeier".to_string(),
             };
-            format!("dielectric, {}, {n}", roughness(*alpha))
+            let tint =
+                transmittance.as_ref().map_or(String::new(), |t| format!(", transmittance {}", describe_spectrum(t)));
+            format!("dielectric, {}, {n}{tint}", roughness(*alpha))
         }
         Material::Tabulated(t) => {
             let spec = t.spec();
@@ -146,7 +148,7 @@ mod tests {
         assert_eq!(describe_spectrum(&table), "table 400-700 nm, 3 points, mean 0.7");
         let m = Material::Diffuse { reflectance: table, two_sided: true };
         assert_eq!(describe_material(&m), "diffuse, reflectance table 400-700 nm, 3 points, mean 0.7, two-sided");
-        let g = Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.05 };
+        let g = Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.05, transmittance: None };
         assert_eq!(describe_material(&g), "dielectric, GGX alpha 0.05, ior 1.5");
         assert_eq!(num(480.3702), "480.4");
         assert_eq!(num(0.0), "0");

@@ -70,7 +70,7 @@ fn dielectric_interface(
     p: f32,
     phi_step: f32,
 ) -> TabulatedSpec {
-    let m = Material::Dielectric { ior: Ior::Constant(ior), alpha };
+    let m = Material::Dielectric { ior: Ior::Constant(ior), alpha, transmittance: None };
     let grid = GridSpec {
         grid: ScatterGrid::SpecularRelative,
         theta: power_spaced(n, theta_max_deg.to_radians(), p),
@@ -148,7 +148,7 @@ fn brushed_aluminium() -> TabulatedSpec {
 /// linear sRGB (0.7, 0.05, 0.04); the base is seen through the coat's Fresnel transmission on
 /// the way in and out: f = f_coat + (1 - F(i)) (1 - F(o)) rho / pi.
 fn red_paint() -> TabulatedSpec {
-    let coat = Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.05 };
+    let coat = Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.05, transmittance: None };
     let base = Spectrum::rgb_reflectance([0.7, 0.05, 0.04]).expect("valid reflectance");
     let coat_f = material_fn(&coat);
     Tabulation {

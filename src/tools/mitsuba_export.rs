@@ -108,14 +108,15 @@ fn bsdf(name: &str, material: &Material) -> Result<String, String> {
             };
             two_sided(format!("<bsdf type=\"{kind}\">{dist}{f}</bsdf>"), *t)
         }
-        Material::Dielectric { ior, alpha } => {
+        Material::Dielectric { ior, alpha, transmittance } => {
             let Ior::Constant(n) = ior else {
                 return Err(format!("material '{name}': a dispersive IOR (Mitsuba's dielectrics have one IOR)"));
             };
             let kind = if rough(*alpha) { "roughdielectric" } else { "dielectric" };
             let dist = if rough(*alpha) { ggx(*alpha) } else { String::new() };
+            let tint = transmittance.as_ref().map_or(String::new(), |t| spectrum_tag("specular_transmittance", t, 1.0));
             format!(
-                "<bsdf type=\"{kind}\">{dist}<float name=\"int_ior\" value=\"{n}\"/><float name=\"ext_ior\" value=\"1\"/></bsdf>"
+                "<bsdf type=\"{kind}\">{dist}<float name=\"int_ior\" value=\"{n}\"/><float name=\"ext_ior\" value=\"1\"/>{tint}</bsdf>"
             )
         }
         Material::Tabulated(_) => return Err(format!("material '{name}': a tabulated BSDF")),

@@ -52,6 +52,7 @@ SCENES = [
     "scenes/tests/glossy-spot.toml",
     "scenes/tests/glossy-directional.toml",
     "scenes/tests/glossy-environment.toml",
+    "scenes/tests/tinted-glass.toml",
 ]
 
 

@@ -92,9 +92,13 @@ pub(crate) fn material(t: &Tbl<'_>) -> Result<Material, ImportError> {
             Material::Conductor { alpha: alpha(t)?, fresnel, two_sided: t.opt_bool("two_sided")?.unwrap_or(true) }
         }
         _ => {
-            t.check_keys(&["type", "ior", "alpha", "roughness"])?;
+            t.check_keys(&["type", "ior", "alpha", "roughness", "transmittance"])?;
             let v = t.req("ior")?;
-            Material::Dielectric { ior: ior(t, v)?, alpha: alpha(t)? }
+            let transmittance = match t.get("transmittance") {
+                Some(v) => Some(spectrum(doc, v, &t.key_path("transmittance"), SpectrumUse::Reflectance)?),
+                None => None,
+            };
+            Material::Dielectric { ior: ior(t, v)?, alpha: alpha(t)?, transmittance }
         }
     };
     m.validate()

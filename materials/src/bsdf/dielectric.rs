@@ -20,12 +20,26 @@ pub struct DielectricBsdf {
     pub eta: f32,
     /// Microfacet distribution; effectively smooth alpha gives a Dirac interface.
     pub distrib: TrowbridgeReitz,
+    /// Factor on the transmitted light at this crossing (1 = clear; in [0, 1]): a coloured
+    /// glass's tint, glTF's base colour of a transmissive material. Sampling ignores it.
+    pub tint: SampledSpectrum,
 }
 
 impl DielectricBsdf {
-    /// A dielectric BSDF; a non-finite or non-positive `eta` is replaced by 1 (pass-through).
+    /// A clear dielectric BSDF; a non-finite or non-positive `eta` is replaced by 1 (pass-through).
     pub fn new(eta: f32, distrib: TrowbridgeReitz) -> Self {
-        Self { eta: if eta.is_finite() && eta > 0.0 { eta } else { 1.0 }, distrib }
+        Self { eta: if eta.is_finite() && eta > 0.0 { eta } else { 1.0 }, distrib, tint: SampledSpectrum::one() }
+    }
+
+    /// The same interface whose transmitted light is multiplied by `tint`.
+    pub fn with_tint(self, tint: SampledSpectrum) -> Self {
+        Self { tint, ..self }
+    }
+
+    /// `f` as a spectrum: tinted for a transmission (wo and wi on opposite sides).
+    #[inline(always)]
+    fn spectrum(&self, f: f32, wo: Vec3, wi: Vec3) -> SampledSpectrum {
+        if (wo.z > 0.0) == (wi.z > 0.0) { SampledSpectrum::splat(f) } else { f * self.tint }
     }
 
     /// True for a smooth interface or eta = 1 (both lobes are Dirac deltas).
@@ -91,7 +105,7 @@ impl DielectricBsdf {
         if self.is_specular() {
             return SampledSpectrum::zero();
         }
-        SampledSpectrum::splat(self.eval_rough(wo, wi, mode).0)
+        self.spectrum(self.eval_rough(wo, wi, mode).0, wo, wi)
     }
 
     /// [`f`](Self::f) and [`pdf`](Self::pdf) from one evaluation of the rough model.
@@ -101,7 +115,7 @@ impl DielectricBsdf {
             return (SampledSpectrum::zero(), 0.0);
         }
         let (f, pdf) = self.eval_rough(wo, wi, mode);
-        (SampledSpectrum::splat(f), pdf)
+        (self.spectrum(f, wo, wi), pdf)
     }
 
     /// Solid-angle density of `sample_f` (0 for a smooth interface).
@@ -149,7 +163,7 @@ impl DielectricBsdf {
                 ft /= etap * etap;
             }
             return Some(BsdfSample {
-                f: SampledSpectrum::splat(ft),
+                f: ft * self.tint,
                 wi,
                 pdf: t,
                 lobe: Lobe::Transmission,
@@ -173,7 +187,7 @@ impl DielectricBsdf {
         if !(pdf > 0.0 && f > 0.0) {
             return None;
         }
-        Some(BsdfSample { f: SampledSpectrum::splat(f), wi, pdf, lobe, specular: false, eta: etap })
+        Some(BsdfSample { f: self.spectrum(f, wo, wi), wi, pdf, lobe, specular: false, eta: etap })
     }
 }
 
@@ -268,6 +282,42 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    /// The tint multiplies transmitted light only, in `f`, `f_pdf` and `sample_f`, smooth and
+    /// rough, and leaves the densities alone (sampling ignores it).
+    #[test]
+    fn the_tint_scales_transmission_only() {
+        let tint = SampledSpectrum([0.2, 0.4, 0.6, 0.8]);
+        let wo = Vec3::new(0.3, -0.2, 0.9).normalize();
+        for alpha in [0.0, 0.3] {
+            let clear = DielectricBsdf::new(1.5, TrowbridgeReitz::new(alpha));
+            let tinted = clear.with_tint(tint);
+            let mut rng = SplitMix(7);
+            let (mut seen_t, mut seen_r) = (false, false);
+            for _ in 0..64 {
+                let (uc, u) = (rng.next(), Vec2::new(rng.next(), rng.next()));
+                let (Some(a), Some(b)) = (
+                    clear.sample_f(wo, uc, u, TransportMode::Radiance),
+                    tinted.sample_f(wo, uc, u, TransportMode::Radiance),
+                ) else {
+                    continue;
+                };
+                assert_eq!((a.wi, a.pdf), (b.wi, b.pdf));
+                let want = if a.lobe == Lobe::Transmission { a.f * tint } else { a.f };
+                assert_eq!(b.f, want, "alpha {alpha}, {:?}", a.lobe);
+                seen_t |= a.lobe == Lobe::Transmission;
+                seen_r |= a.lobe == Lobe::Reflection;
+                if alpha > 0.0 {
+                    let (fa, pa) = clear.f_pdf(wo, a.wi, TransportMode::Radiance);
+                    let (fb, pb) = tinted.f_pdf(wo, a.wi, TransportMode::Radiance);
+                    assert_eq!(pa, pb);
+                    assert_eq!(fb, if a.lobe == Lobe::Transmission { fa * tint } else { fa });
+                    assert_eq!(tinted.f(wo, a.wi, TransportMode::Radiance), fb);
+                }
+            }
+            assert!(seen_t && seen_r, "alpha {alpha}: both lobes sampled");
         }
     }
 }

@@ -189,7 +189,7 @@ mod tests {
         use quasar_materials::spectrum::Spectrum;
         use quasar_materials::{Frame, Ior, Material};
         let mut wl = SampledWavelengths::sample_uniform(0.5);
-        let glass = Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.05 }.bsdf(&mut wl);
+        let glass = Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.05, transmittance: None }.bsdf(&mut wl);
         let white = Material::Diffuse { reflectance: Spectrum::Constant(0.5), two_sided: true }.bsdf(&mut wl);
         let mut s = Sampler::new(11, 0, 0);
         let points: Vec<VisibilityPoint> = normals(&mut s)

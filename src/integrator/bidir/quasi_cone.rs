@@ -64,7 +64,9 @@ mod tests {
     #[test]
     fn cone_contains_directions_near_the_mirror_and_refraction_directions() {
         let mut wl = SampledWavelengths::sample_uniform(0.5);
-        let glass = Material::Dielectric { ior: quasar_materials::Ior::Constant(1.5), alpha: 0.05 }.bsdf(&mut wl);
+        let glass =
+            Material::Dielectric { ior: quasar_materials::Ior::Constant(1.5), alpha: 0.05, transmittance: None }
+                .bsdf(&mut wl);
         let wo = Vec3::new(0.6, 0.0, 0.8);
         let cone = QuasiCone::at(&glass, wo, 10f32.to_radians().cos()).unwrap();
         assert!(cone.contains(Vec3::new(-0.6, 0.0, 0.8)));
