@@ -530,6 +530,23 @@ fn info_shows_the_lights_in_photometric_units() {
     }
 }
 
+/// `--spectral-bins` writes its bins into `<stem>.spectral.exr`; the image keeps the standard
+/// layers (issue 52: with 47 bins in one `S0` layer Blender refused the whole file).
+#[test]
+fn spectral_bins_go_to_a_file_of_their_own() {
+    let s = write_scene(GOOD, &[]);
+    let out = s.dir.path().join("out.exr");
+    let (status, stderr) = render_cli(&s.path, &out, ["--spectral-bins", "47", "--seed", "1"]);
+    assert!(status.success(), "{stderr}");
+    let is_bin = |n: &str| quasar::film::SpectralBins::is_channel(n);
+    let main = quasar::output::read_exr(&out).unwrap();
+    assert!(!main.channels.iter().any(|c| is_bin(&c.name)) && main.channel("R").is_some());
+    let side = quasar::output::read_exr(&s.dir.path().join("out.spectral.exr")).unwrap();
+    assert_eq!(side.channels.iter().filter(|c| is_bin(&c.name)).count(), 47);
+    let (status, stderr) = render_cli(&s.path, Path::new("/dev/null"), ["--spectral-bins", "4"]);
+    assert!(!status.success() && stderr.contains("give -o a file path"), "{stderr}");
+}
+
 /// A `--target-error` that `--time` cuts short is reported on stderr and in the header
 /// (`target_error_reached`), and a reached one says so (issue 18).
 #[test]

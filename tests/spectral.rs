@@ -1,4 +1,4 @@
-//! Spectral EXR output (`--spectral-bins`): the `S0.<lambda>nm` channels against the exact bin
+//! Spectral EXR output (`--spectral-bins`, written to `<stem>.spectral.exr`): the `S0.<lambda>nm` channels against the exact bin
 //! means of a known emission spectrum, their consistency with the film's CIE Y for a per-pixel
 //! and a bidirectional method, and the layout's header attributes in the written file.
 
@@ -134,8 +134,16 @@ fn the_written_file_has_the_spectral_layout_attributes_and_channels() {
     let scene = emitting_sphere();
     let bins = SpectralBins::new(3, 400.0, 700.0).unwrap();
     let out = common::render_file(&scene.path, &spectral_ov(pt_ov(4, 4, 2, 0), bins));
-    let path = scene.dir.path().join("spectral.exr");
-    write_outputs(&out, &path, None).unwrap();
+    let image = scene.dir.path().join("image.exr");
+    write_outputs(&out, &image, None).unwrap();
+    // the bins are in a file of their own; the image keeps the standard layers (issue 52:
+    // Blender refuses a whole file with more than 24 channels in one layer)
+    let path = quasar::render::job::spectral_file_path(&image);
+    assert_eq!(path, scene.dir.path().join("image.spectral.exr"));
+    let main = quasar::output::read_exr(&image).unwrap();
+    assert!(!main.channels.iter().any(|c| SpectralBins::is_channel(&c.name)));
+    assert_eq!(main.meta("spectral_file"), Some("image.spectral.exr"));
+    assert!(main.channel("XYZ.Y").is_some() && main.channel("indirect.R").is_some());
     use exr::prelude::{AttributeValue, ReadChannels, ReadLayers, Text};
     let raw = exr::prelude::read()
         .no_deep_data()

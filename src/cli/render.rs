@@ -77,7 +77,9 @@ pub struct RenderArgs {
     #[arg(long, value_name = "N")]
     pub illuminance_samples: Option<u32>,
     /// Also write the beauty's spectral radiance in N equal bins as `S0.<lambda>nm` channels
-    /// (the OpenEXR spectral layout of Fichet et al. 2021, as pbrt-v4 writes it; 1 to 940).
+    /// (the OpenEXR spectral layout of Fichet et al. 2021, as pbrt-v4 writes it; 1 to 940) into
+    /// `<stem>.spectral.exr` beside the image, a complete image with every layer; the image
+    /// itself keeps the standard layers only, so that every EXR reader opens it.
     #[arg(long, value_name = "N")]
     pub spectral_bins: Option<u32>,
     /// Wavelength range MIN:MAX in nm of --spectral-bins (default 360:830, the sampled range).
@@ -282,6 +284,15 @@ pub fn render(args: RenderArgs) -> Result<ExitCode> {
     }
     if let Some(p) = &ov.checkpoint {
         check_output(&scene, p, "", "--checkpoint")?;
+    }
+    if ov.spectral_bins.is_some() {
+        if exr_is_stream {
+            anyhow::bail!(
+                "--spectral-bins writes its bins beside the image, and {} is a device or a pipe: give -o a file path",
+                exr.display()
+            );
+        }
+        check_output(&scene, &quasar::render::job::spectral_file_path(&exr), "", "--spectral-bins")?;
     }
     if exr_is_stream && false_colour.is_some() {
         anyhow::bail!(

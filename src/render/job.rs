@@ -361,6 +361,15 @@ pub fn write_outputs(out: &JobOutput, exr: &Path, preview: Option<&PathBuf>) -> 
     write_outputs_with_preview(out, exr, preview, Exposure::Auto, View::default())
 }
 
+/// Where a render with spectral bins (`--spectral-bins`) writes them: `<stem>.spectral.exr`
+/// beside the image, a complete image (every layer and the `S0.<lambda>nm` channels of the
+/// spectral layout) that spectral tools and `quasar merge` read, while the image itself keeps
+/// only the standard layers (and names the spectral file in its `spectral_file` header entry).
+pub fn spectral_file_path(exr: &Path) -> PathBuf {
+    let stem = exr.file_stem().map_or_else(|| "out".into(), |s| s.to_string_lossy().into_owned());
+    exr.with_file_name(format!("{stem}.spectral.exr"))
+}
+
 /// [`write_outputs`] with the preview's exposure and view transform given
 /// (`crate::output::preview`).
 pub fn write_outputs_with_preview(
@@ -370,7 +379,20 @@ pub fn write_outputs_with_preview(
     exposure: Exposure,
     view: View,
 ) -> Result<()> {
-    write_exr_atomic(&out.image, exr)?;
+    let spectral = out.image.channels.iter().any(|c| SpectralBins::is_channel(&c.name));
+    if spectral {
+        // the spectral bins in a file of their own, the standard layers readable everywhere
+        // (Blender refuses a whole file whose one layer has more than 24 channels)
+        let side = spectral_file_path(exr);
+        write_exr_atomic(&out.image, &side)?;
+        let mut main = out.image.clone();
+        main.channels.retain(|c| !SpectralBins::is_channel(&c.name));
+        let name = side.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+        main.metadata.push(("spectral_file".into(), name));
+        write_exr_atomic(&main, exr)?;
+    } else {
+        write_exr_atomic(&out.image, exr)?;
+    }
     if let Some(p) = preview {
         let img = &out.image;
         let get = |n: &str| img.channel(n).context("beauty channel missing");

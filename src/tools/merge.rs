@@ -134,7 +134,8 @@ pub fn merge(images: &[ExrImage]) -> Result<ExrImage, String> {
             *v = "merged".into();
         }
     }
-    metadata.retain(|(k, _)| k != "streams");
+    // the shards' spectral files are merged on their own (one `quasar merge` of them)
+    metadata.retain(|(k, _)| k != "streams" && k != "spectral_file");
     let list: Vec<String> = all_streams.iter().map(|(seed, k, n)| format!("{seed}:{k}/{n}")).collect();
     metadata.push(("streams".into(), list.join(",")));
     metadata.push(("merged_from".into(), images.len().to_string()));
