@@ -8,6 +8,7 @@ use quasar_importers::SceneDesc;
 use quasar_materials::spectrum::Spectrum;
 use quasar_materials::{ConductorFresnel, Ior, Material};
 
+use super::report_format::{num, vec3};
 use crate::core::scene::Scene;
 use crate::integrator::analysis::SceneAnalysis;
 
@@ -56,22 +57,6 @@ pub fn report(path: &Path, desc: &SceneDesc, compiled: &Scene) -> String {
     }
     let _ = writeln!(s, "bounding sphere: centre {}, radius {}", vec3(compiled.center), compiled.radius);
     s + &SceneAnalysis::of(compiled).report()
-}
-
-/// A number with at most 4 significant digits after trimming (`0.5`, `480.4`, `1.5e-05`).
-pub(super) fn num(v: f32) -> String {
-    if v == 0.0 || (1e-3..1e5).contains(&v.abs()) {
-        let digits = (3 - v.abs().max(1e-3).log10().floor() as i32).clamp(0, 6) as usize;
-        let t = format!("{v:.digits$}");
-        if t.contains('.') { t.trim_end_matches('0').trim_end_matches('.').to_string() } else { t }
-    } else {
-        format!("{v:.3e}")
-    }
-}
-
-/// A point as `(x, y, z)` with [`num`]'s digits.
-pub(super) fn vec3(v: glam::Vec3) -> String {
-    format!("({}, {}, {})", num(v.x), num(v.y), num(v.z))
 }
 
 /// One line on a spectral curve: `0.8`, `table 400-700 nm, 76 points, mean 0.71`,

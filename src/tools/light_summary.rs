@@ -8,7 +8,7 @@ use std::f32::consts::PI;
 use quasar_importers::photometric::LUMINANCE_PER_Y;
 use quasar_importers::{LightDesc, LuminousOpening, SceneDesc};
 
-use super::info::{num, vec3};
+use super::report_format::{num, vec3};
 
 /// One line per light of `desc` (emissive meshes included), in scene order.
 pub fn light_lines(desc: &SceneDesc) -> Vec<String> {

@@ -12,4 +12,5 @@ pub mod material_library;
 pub mod merge;
 pub mod mitsuba_export;
 pub mod plot;
+pub mod report_format;
 pub mod ztest;
