@@ -34,7 +34,7 @@ fn bumpy_sphere(n_theta: usize, n_phi: usize) -> Vec<[Vec3; 3]> {
 }
 
 fn info(n: usize) -> Vec<TriangleInfo> {
-    vec![TriangleInfo { material: 0, light: NONE, normals: NONE, mesh: 0, uvs: NONE }; n]
+    vec![TriangleInfo { material: 0, light: NONE, normals: NONE, mesh: 0, uvs: NONE, colors: NONE }; n]
 }
 
 struct RaySets {

@@ -147,3 +147,44 @@ fn normal_maps_tilt_the_shading_normal() {
     let n = normal_mapped_floor_normal([218, 128, 218]);
     assert!((n - glam::Vec3::new(1.0, 0.0, 0.0).lerp(glam::Vec3::Y, 0.5).normalize()).length() < 0.02, "{n}");
 }
+
+/// The scene of [`floor_scene`] with a 2 m floor (the camera sees its central 1.7 m) carrying
+/// COLOR_0 vertex colours `corners` (in the order of its four vertices: -x+z, +x+z, +x-z,
+/// -x-z), which multiply its white base colour (issue 52: they were ignored with a warning).
+fn coloured_floor(corners: [[f32; 3]; 4]) -> (tempfile::TempDir, std::path::PathBuf) {
+    let mut w = floor_scene(50.0, 10.0, None);
+    let position = w.positions(&[[-1.0, 0.0, 1.0], [1.0, 0.0, 1.0], [1.0, 0.0, -1.0], [-1.0, 0.0, -1.0]]);
+    let colors = w.normals(&corners);
+    let indices = w.indices(&[0, 1, 2, 0, 2, 3]);
+    w.meshes[0] = format!(
+        r#"{{"name":"floor","primitives":[{{"attributes":{{"POSITION":{position},"COLOR_0":{colors}}},"indices":{indices},"material":0}}]}}"#
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("colours.glb");
+    std::fs::write(&p, w.to_glb()).unwrap();
+    (dir, p)
+}
+
+#[test]
+fn vertex_colours_multiply_the_base_colour() {
+    let white = render(&coloured_floor([[1.0; 3]; 4]).1, &overrides(8, 4));
+    let grey = render(&coloured_floor([[0.5; 3]; 4]).1, &overrides(8, 4));
+    // direct light only, the same paths: grey vertex colours halve the image
+    let ratio = common::mean(grey.channel("XYZ.Y").unwrap()) / common::mean(white.channel("XYZ.Y").unwrap());
+    assert!((ratio - 0.5).abs() < 0.01, "grey 0.5 vertex colours: {ratio} of the white floor");
+    // red towards -x, blue towards +x, interpolated across the floor
+    let (_dir, path) = coloured_floor([[1.0, 0.1, 0.1], [0.1, 0.1, 1.0], [0.1, 0.1, 1.0], [1.0, 0.1, 0.1]]);
+    let out = render(&path, &overrides(8, 16));
+    let (r, b) = (out.channel("R").unwrap(), out.channel("B").unwrap());
+    for y in 0..8 {
+        let (l, rt) = (y * 8, y * 8 + 7);
+        assert!(
+            r[l] > 2.0 * r[rt] && b[rt] > 2.0 * b[l],
+            "row {y}: left ({}, {}), right ({}, {})",
+            r[l],
+            b[l],
+            r[rt],
+            b[rt]
+        );
+    }
+}

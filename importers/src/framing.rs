@@ -105,6 +105,7 @@ mod tests {
             positions: corners.to_vec(),
             normals: None,
             uvs: None,
+            colors: None,
             indices: vec![[0, 1, 2], [0, 2, 3]],
             material: 0,
             emission: None,

@@ -371,6 +371,7 @@ pub fn import_obj(path: &Path, opts: &ImportOptions, materials: ObjMaterials) ->
             positions,
             normals,
             uvs: None,
+            colors: None,
             indices,
             material: si,
             emission: mat.emission.clone(),

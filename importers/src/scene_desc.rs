@@ -53,6 +53,9 @@ pub struct MeshDesc {
     /// Per-vertex texture coordinates (same length as `positions`; glTF convention: origin at the
     /// image's top-left, v down), or `None`.
     pub uvs: Option<Vec<Vec2>>,
+    /// Per-vertex linear RGB colours (same length as `positions`; glTF `COLOR_0`), which
+    /// multiply a glTF material's base colour, or `None`.
+    pub colors: Option<Vec<[f32; 3]>>,
     /// Triangles as indices into `positions`.
     pub indices: Vec<[u32; 3]>,
     /// Index into [`SceneDesc::materials`].

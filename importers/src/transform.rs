@@ -108,6 +108,7 @@ mod tests {
             positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
             normals: Some(vec![Vec3::Z; 3]),
             uvs: None,
+            colors: None,
             indices: vec![[0, 1, 2]],
             material: 0,
             emission: None,

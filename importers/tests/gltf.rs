@@ -655,9 +655,10 @@ fn shipped_showcase_imports_cleanly() {
     assert_eq!(t.materials[block.material].name, "copper");
 }
 
-/// Morph targets are applied at their default weights (the node's over the mesh's); skins,
-/// animations and COLOR_0 vertex colours, which are not used, give one warning each (issue 18:
-/// Khronos SimpleSkin, SimpleMorph and BoxVertexColors were read silently as if they had none).
+/// Morph targets are applied at their default weights (the node's over the mesh's); skins and
+/// animations, which are not used, give one warning each (issue 18: Khronos SimpleSkin and
+/// SimpleMorph were read silently as if they had none); COLOR_0 vertex colours are read (issue
+/// 52), as FLOAT VEC3 here and as normalised UNSIGNED_BYTE VEC4 below.
 #[test]
 fn morph_targets_apply_and_unused_features_warn() {
     let mut w = GltfWriter::new();
@@ -701,6 +702,32 @@ fn morph_targets_apply_and_unused_features_warn() {
     assert!(close(mb.normals.as_ref().unwrap()[0], Vec3::Z));
     let warned = |needle: &str| s.warnings.iter().filter(|w| w.contains(needle)).count();
     assert_eq!(warned("the skin is ignored"), 1, "{:?}", s.warnings);
-    assert_eq!(warned("COLOR_0"), 1, "{:?}", s.warnings);
+    assert_eq!(warned("COLOR_0"), 0, "{:?}", s.warnings);
+    assert_eq!(ma.colors.as_deref(), Some(&[[1.0, 0.0, 0.0]; 3][..]));
+    assert!(s.materials[ma.material].textures.pbr.is_some(), "vertex colours make the material per-point");
     assert_eq!(warned("1 animation(s) ignored"), 1, "{:?}", s.warnings);
+}
+
+/// COLOR_0 as normalised UNSIGNED_BYTE VEC4 (Blender's export): linear RGB in [0, 1], alpha
+/// dropped; a primitive whose colours are all white keeps no colours (nothing to multiply).
+#[test]
+fn vertex_colours_in_bytes_and_white_ones() {
+    let mut w = GltfWriter::new();
+    let position = w.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    let indices = w.indices(&[0, 1, 2]);
+    let bytes = w.raw_bytes_accessor(&[255, 0, 0, 255, 0, 255, 0, 128, 0, 0, 255, 0], "VEC4", 5121, true);
+    let white = w.raw_bytes_accessor(&[255; 12], "VEC4", 5121, true);
+    for (name, c) in [("coloured", bytes), ("white", white)] {
+        let mesh = format!(
+            r#"{{"name":"{name}","primitives":[{{"attributes":{{"POSITION":{position},"COLOR_0":{c}}},"indices":{indices}}}]}}"#
+        );
+        let m = GltfWriter::push(&mut w.meshes, &mesh);
+        let n = node(&mut w, &format!(r#"{{"name":"{name}","mesh":{m}}}"#));
+        w.roots.push(n);
+    }
+    let d = Dir::new();
+    let s = import(&d.gltf("colours", &w));
+    let by = |n: &str| s.meshes.iter().find(|m| m.name.starts_with(n)).unwrap();
+    assert_eq!(by("coloured:").colors.as_deref(), Some(&[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]][..]));
+    assert_eq!(by("white:").colors, None);
 }

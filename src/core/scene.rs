@@ -98,6 +98,8 @@ pub struct SurfaceInteraction {
     pub light: u32,
     /// Texture coordinates (zero unless the material is textured).
     pub uv: Vec2,
+    /// Barycentric coordinates (b1, b2) of the hit in its triangle (for vertex colours).
+    pub bary: Vec2,
 }
 
 impl SurfaceInteraction {
@@ -194,6 +196,9 @@ pub struct Scene {
     pub normals: Vec<Vec3>,
     /// Per-vertex texture coordinates, three per triangle with a textured material.
     pub uvs: Vec<Vec2>,
+    /// Per-vertex linear RGB colours, three per triangle with vertex colours and a textured
+    /// (glTF per-point) material.
+    pub colors: Vec<[f32; 3]>,
     /// Image textures.
     pub textures: Vec<ImageTexture>,
     /// The textured form of each material (same order as `materials`; None for most).
@@ -217,6 +222,7 @@ impl Scene {
         let mut infos = Vec::new();
         let mut normals = Vec::new();
         let mut uvs = Vec::new();
+        let mut colors = Vec::new();
         let mut emissions = Vec::new();
         let mut lights = Vec::new();
         let mut dropped = 0usize;
@@ -237,6 +243,11 @@ impl Scene {
                 && t.len() != m.positions.len()
             {
                 return Err(err(format!("{} texture coordinates for {} positions", t.len(), m.positions.len())));
+            }
+            if let Some(c) = &m.colors
+                && c.len() != m.positions.len()
+            {
+                return Err(err(format!("{} vertex colours for {} positions", c.len(), m.positions.len())));
             }
             let textured = !desc.materials[m.material].textures.is_empty();
             let emission = match &m.emission {
@@ -287,6 +298,13 @@ impl Scene {
                     uidx = uvs.len() as u32;
                     uvs.extend(idx.iter().map(|&i| t[i as usize]));
                 }
+                let mut cidx = NONE;
+                if textured && let Some(c) = &m.colors {
+                    cidx = colors.len() as u32;
+                    colors.extend(
+                        idx.iter().map(|&i| c[i as usize].map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 })),
+                    );
+                }
                 for p in v {
                     lo = lo.min(p);
                     hi = hi.max(p);
@@ -303,6 +321,7 @@ impl Scene {
                     normals: nidx,
                     mesh: mi as u32,
                     uvs: uidx,
+                    colors: cidx,
                 });
             }
         }
@@ -385,6 +404,7 @@ impl Scene {
             light_sampler,
             normals,
             uvs,
+            colors,
             textures: desc.textures.iter().map(ImageTexture::new).collect(),
             material_textures: desc.materials.iter().map(|m| TexturedMaterial::new(&m.textures)).collect(),
             center,
@@ -463,7 +483,19 @@ impl Scene {
                 ns = normal_mapped(g, t, ns, ng, n);
             }
         }
-        SurfaceInteraction { p, p_err, ng, ns, t: h.t, prim: h.prim, material: info.material, light: info.light, uv }
+        let bary = Vec2::new(h.b1, h.b2);
+        SurfaceInteraction {
+            p,
+            p_err,
+            ng,
+            ns,
+            t: h.t,
+            prim: h.prim,
+            material: info.material,
+            light: info.light,
+            uv,
+            bary,
+        }
     }
 
     /// The material at a surface point: the material table's entry, or for a textured (glTF)
@@ -472,9 +504,30 @@ impl Scene {
     pub fn material_at(&self, si: &SurfaceInteraction) -> Cow<'_, Material> {
         let m = si.material as usize;
         match self.material_textures.get(m) {
-            Some(Some(t)) => Cow::Owned(pbr_material_at(&t.params_at(&self.textures, si.uv))),
+            Some(Some(t)) => {
+                let mut p = t.params_at(&self.textures, si.uv);
+                if let Some(c) = self.vertex_color(si) {
+                    for (b, c) in p.base_color.iter_mut().zip(c) {
+                        *b *= c;
+                    }
+                }
+                Cow::Owned(pbr_material_at(&p))
+            }
             _ => Cow::Borrowed(&self.materials[m]),
         }
+    }
+
+    /// The vertex colour at a surface point, interpolated from its triangle's (None without).
+    #[inline]
+    pub fn vertex_color(&self, si: &SurfaceInteraction) -> Option<[f32; 3]> {
+        let info = self.accel.info.get(si.prim as usize)?;
+        if info.colors == NONE {
+            return None;
+        }
+        let c = &self.colors[info.colors as usize..info.colors as usize + 3];
+        let (b1, b2) = (si.bary.x, si.bary.y);
+        let b0 = 1.0 - b1 - b2;
+        Some(std::array::from_fn(|k| c[0][k] * b0 + c[1][k] * b1 + c[2][k] * b2))
     }
 
     /// The BSDF at a surface point for the path's wavelengths (see [`material_at`](Self::material_at)).

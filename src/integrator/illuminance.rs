@@ -38,6 +38,7 @@ pub fn illuminance_sample(
         material: 0,
         light: crate::core::geometry::NONE,
         uv: Vec2::ZERO,
+        bary: Vec2::ZERO,
     };
     let white = Bsdf::Diffuse(DiffuseBsdf { r: SampledSpectrum::one(), two_sided: false });
     let frame = si.frame();

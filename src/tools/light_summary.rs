@@ -121,6 +121,7 @@ mod tests {
             indices: vec![[0, 1, 2], [0, 2, 3]],
             normals: None,
             uvs: None,
+            colors: None,
             material: 0,
             emission: Some(quasar_importers::EmissionDesc { spectrum: white, scale: per(1000.0), two_sided: false }),
             source: Default::default(),

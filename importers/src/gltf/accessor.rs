@@ -194,6 +194,24 @@ impl<'a> Buffers<'a> {
         Ok(out)
     }
 
+    /// A vertex-colour accessor (`COLOR_0`: VEC3 or VEC4, FLOAT or normalised UNSIGNED_BYTE/SHORT)
+    /// as linear RGB (alpha dropped); non-finite or negative values become 0.
+    pub fn colors(&self, acc: &Accessor<'_>, pointer: &str) -> Result<Vec<[f32; 3]>, ImportError> {
+        let (t, norm) = (acc.data_type(), acc.normalized());
+        let allowed: &[DataType] = if norm { &[DataType::U8, DataType::U16] } else { &[DataType::F32] };
+        let want = dims(acc.dimensions()).clamp(3, 4);
+        let cs = component_size(t);
+        let l = self.layout(acc, pointer, want, allowed)?;
+        let mut out = Vec::with_capacity(l.count);
+        l.for_each(|b| {
+            out.push(std::array::from_fn(|k| {
+                let v = component(&b[k * cs..(k + 1) * cs], t, norm);
+                if v.is_finite() { v.max(0.0) } else { 0.0 }
+            }))
+        });
+        Ok(out)
+    }
+
     /// A SCALAR index accessor (UNSIGNED_BYTE/SHORT/INT); every index must be < `vertices`.
     pub fn indices(&self, acc: &Accessor<'_>, pointer: &str, vertices: usize) -> Result<Vec<u32>, ImportError> {
         let t = acc.data_type();

@@ -17,6 +17,8 @@ use quasar_materials::{PbrParams, pbr_material};
 pub(super) struct Converted {
     /// The material.
     pub desc: MaterialDesc,
+    /// Its glTF factors (what a per-point evaluation multiplies texels and vertex colours into).
+    pub params: PbrParams,
     /// Area emission of meshes using it.
     pub emission: Option<EmissionDesc>,
 }
@@ -38,6 +40,7 @@ pub(super) fn convert(
         // glTF 2.0 section 3.9.6: base colour 1, metallic 1, roughness 1
         let p = PbrParams::default();
         return Ok(Converted {
+            params: p,
             desc: MaterialDesc {
                 name: unique_name("gltf-default", taken),
                 material: pbr_material(&p),
@@ -121,6 +124,7 @@ pub(super) fn convert(
     };
     let base = m.name().map_or_else(|| format!("material{i}"), str::to_owned);
     Ok(Converted {
+        params: p,
         desc: MaterialDesc {
             name: unique_name(&base, taken),
             material: pbr_material(&p),

@@ -231,6 +231,7 @@ pub fn import_gltf(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Impor
     };
     let mut materials: Vec<MaterialDesc> = Vec::new();
     let mut emissions = Vec::new();
+    let mut params = Vec::new();
     let mut index_of: HashMap<Option<usize>, usize> = HashMap::new();
     let mut names: std::collections::HashSet<String> = std::collections::HashSet::new();
     let gltf_materials: Vec<gltf::Material<'_>> = doc.materials().collect();
@@ -244,13 +245,23 @@ pub fn import_gltf(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Impor
                 names.insert(c.desc.name.clone());
                 materials.push(c.desc);
                 emissions.push(c.emission);
+                params.push(c.params);
                 index_of.insert(gm, materials.len() - 1);
                 materials.len() - 1
             }
         };
         mesh.material = si;
         mesh.emission = emissions[si].clone();
-        if mesh.uvs.is_none() && !materials[si].textures.is_empty() {
+        // vertex colours multiply the base colour per point (white ones change nothing)
+        if mesh.colors.as_ref().is_some_and(|c| c.iter().all(|&c| c == [1.0; 3])) {
+            mesh.colors = None;
+        }
+        let t = &mut materials[si].textures;
+        if mesh.colors.is_some() && t.pbr.is_none() {
+            t.pbr = Some(params[si]);
+        }
+        let has_texture = t.base_color.is_some() || t.metallic_roughness.is_some() || t.normal.is_some();
+        if mesh.uvs.is_none() && has_texture {
             let at = mesh.source.item.clone().unwrap_or_default();
             warnings.push(format!(
                 "{}: {at}: material `{}` is textured but the primitive has no TEXCOORD_0; the texel at (0, 0) is used",

@@ -31,6 +31,7 @@ pub(super) struct LocalPrim {
     positions: Vec<Vec3>,
     normals: Option<Vec<Vec3>>,
     uvs: Option<Vec<Vec2>>,
+    colors: Option<Vec<[f32; 3]>>,
     indices: Vec<[u32; 3]>,
 }
 
@@ -211,6 +212,17 @@ impl<'a> Walker<'a> {
             }
             None => None,
         };
+        let colors = match prim.get(&gltf::Semantic::Colors(0)) {
+            Some(a) => {
+                let at = format!("{ptr}/attributes/COLOR_0");
+                let c = self.buffers.colors(&a, &at)?;
+                if c.len() != n {
+                    return Err(file_err(file, &at, format!("{} vertex colours for {n} positions", c.len())));
+                }
+                Some(c)
+            }
+            None => None,
+        };
         let idx: Vec<u32> = match prim.indices() {
             Some(a) => self.buffers.indices(&a, &format!("{ptr}/indices"), n)?,
             None => (0..n as u32).collect(),
@@ -222,7 +234,7 @@ impl<'a> Walker<'a> {
                 .collect(),
             _ => (1..idx.len().saturating_sub(1)).map(|i| [idx[0], idx[i], idx[i + 1]]).collect(),
         };
-        Ok(LocalPrim { positions, normals, uvs, indices })
+        Ok(LocalPrim { positions, normals, uvs, colors, indices })
     }
 
     fn mesh(
@@ -256,12 +268,6 @@ impl<'a> Walker<'a> {
                     format!("the scene would have more than {MAX_SCENE_TRIANGLES} triangles (instances counted)"),
                 ));
             }
-            if prim.get(&gltf::Semantic::Colors(0)).is_some() {
-                self.warn_once(
-                    "COLOR_0",
-                    format!("{ptr}: vertex colours (COLOR_0) are not used; the material's base colour is"),
-                );
-            }
             let key = (mesh.index(), prim.index(), weights.iter().map(|w| w.to_bits()).collect());
             let local = match self.cache.get(&key) {
                 Some(p) => p.clone(),
@@ -284,6 +290,7 @@ impl<'a> Walker<'a> {
                 positions: local.positions.clone(),
                 normals: local.normals.clone(),
                 uvs: local.uvs.clone(),
+                colors: local.colors.clone(),
                 indices: local.indices.clone(),
                 material: 0,
                 emission: None,

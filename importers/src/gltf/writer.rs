@@ -128,6 +128,28 @@ impl GltfWriter {
         self.accessors.len() - 1
     }
 
+    /// An accessor over `bytes` stored as given: `count` elements of `ty` (`"VEC4"`, ...) with
+    /// glTF component type `component` (5121 = UNSIGNED_BYTE, ...), `normalized` or not.
+    pub fn raw_bytes_accessor(&mut self, bytes: &[u8], ty: &str, component: u32, normalized: bool) -> usize {
+        let n = match ty {
+            "SCALAR" => 1,
+            "VEC2" => 2,
+            "VEC3" => 3,
+            _ => 4,
+        };
+        let size = match component {
+            5121 | 5120 => 1,
+            5123 | 5122 => 2,
+            _ => 4,
+        };
+        let v = self.view(bytes, Some(34962));
+        let count = bytes.len() / (n * size);
+        self.accessors.push(format!(
+            "{{\"bufferView\":{v},\"componentType\":{component},\"normalized\":{normalized},\"count\":{count},\"type\":\"{ty}\"}}"
+        ));
+        self.accessors.len() - 1
+    }
+
     /// Adds a raw accessor object (for malformed-input tests); returns its index.
     pub fn raw_accessor(&mut self, json: &str) -> usize {
         self.accessors.push(json.to_owned());

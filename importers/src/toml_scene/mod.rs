@@ -380,6 +380,7 @@ impl<'a> Builder<'a> {
             positions: tess.positions,
             normals: tess.normals,
             uvs: None,
+            colors: None,
             indices: tess.indices,
             material,
             emission,

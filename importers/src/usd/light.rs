@@ -107,6 +107,7 @@ fn local_mesh(name: &str, t: Tessellation, spectrum: Spectrum, scale: f32) -> Me
         positions: t.positions,
         normals: t.normals,
         uvs: None,
+        colors: None,
         indices: t.indices,
         material: 0,
         emission: Some(EmissionDesc { spectrum, scale, two_sided: false }),

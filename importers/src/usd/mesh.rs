@@ -151,6 +151,7 @@ pub(super) fn read_mesh(prim: &Prim, name: String) -> Result<LocalMesh, AttrErro
         positions,
         normals: normals_ok.then_some(out_normals),
         uvs: uvs_ok.then_some(out_uvs),
+        colors: None,
         indices,
         material: 0,
         emission: None,

@@ -76,6 +76,7 @@ pub(super) fn read_shape(prim: &Prim, ty: &str, name: String) -> Result<MeshDesc
         positions: t.positions,
         normals: t.normals,
         uvs: None,
+        colors: None,
         indices: t.indices,
         material: 0,
         emission: None,

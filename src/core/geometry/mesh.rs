@@ -97,6 +97,9 @@ pub struct TriangleInfo {
     /// Index of the first of three per-vertex texture coordinates in the uv pool, or `u32::MAX`
     /// (kept only for triangles whose material is textured).
     pub uvs: u32,
+    /// Index of the first of three per-vertex colours in the colour pool, or `u32::MAX` (kept
+    /// only for triangles with vertex colours whose material is textured).
+    pub colors: u32,
 }
 
 /// Sentinel for "none" in [`TriangleInfo`] index fields.
