@@ -7,6 +7,7 @@ pub mod bytes;
 pub mod camera;
 pub mod env_map;
 pub mod geometry;
+pub mod interaction;
 pub mod isa;
 pub mod light;
 pub mod luminaire;

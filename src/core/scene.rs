@@ -15,10 +15,13 @@ use crate::core::geometry::{Accel, Hit, NONE, Ray, TriangleGeom, TriangleInfo};
 use crate::core::light::{Emission, Light, LightSampler};
 use crate::core::texture::{ImageTexture, TexturedMaterial};
 
+use super::interaction::normal_mapped;
+pub use super::interaction::{GeometricHit, SurfaceInteraction};
+
 std::thread_local! {
     /// Rays this thread has traced ([`Scene::intersect`], [`Scene::intersect_geometry`],
     /// [`Scene::occluded`]): the deterministic measure of work by which `auto` compares methods
-    /// (`integrator::auto_choice`). One add to a thread-local per ray, against a BVH traversal.
+    /// (`render::pilot`). One add to a thread-local per ray, against a BVH traversal.
     static RAYS_TRACED: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
 }
 
@@ -56,76 +59,6 @@ pub enum CompileError {
     },
 }
 
-/// A ray's hit with its geometry only: what probe rays need ([`Scene::intersect_geometry`]).
-#[derive(Clone, Copy, Debug)]
-pub struct GeometricHit {
-    /// Position (computed from barycentrics), as in [`SurfaceInteraction::p`].
-    pub p: Vec3,
-    /// Absolute per-axis rounding-error bound of `p`.
-    pub p_err: Vec3,
-    /// Unit geometric normal (the triangle's winding), as in [`SurfaceInteraction::ng`].
-    pub ng: Vec3,
-    /// Ray distance to the hit.
-    pub t: f32,
-}
-
-impl GeometricHit {
-    /// A ray leaving the hit in direction `w`, offset past the rounding error of `p` (the
-    /// same origin [`SurfaceInteraction::spawn_ray`] gives).
-    pub fn spawn_ray(&self, w: Vec3) -> Ray {
-        Ray::new(crate::core::geometry::offset_origin(self.p, self.p_err, self.ng, w), w)
-    }
-}
-
-/// A surface point hit by a ray, with everything shading needs.
-#[derive(Clone, Copy, Debug)]
-pub struct SurfaceInteraction {
-    /// Position (computed from barycentrics).
-    pub p: Vec3,
-    /// Absolute per-axis rounding-error bound of `p`.
-    pub p_err: Vec3,
-    /// Unit geometric normal (winding order; not flipped towards the ray).
-    pub ng: Vec3,
-    /// Unit shading normal, on the same side as `ng`.
-    pub ns: Vec3,
-    /// Distance along the ray.
-    pub t: f32,
-    /// Triangle index (BVH order).
-    pub prim: u32,
-    /// Material index.
-    pub material: u32,
-    /// Area light index or [`NONE`].
-    pub light: u32,
-    /// Texture coordinates (zero unless the material is textured).
-    pub uv: Vec2,
-    /// Barycentric coordinates (b1, b2) of the hit in its triangle (for vertex colours).
-    pub bary: Vec2,
-}
-
-impl SurfaceInteraction {
-    /// The shading frame (z = shading normal).
-    pub fn frame(&self) -> Frame {
-        Frame::from_z(self.ns)
-    }
-
-    /// A ray leaving the surface in direction `w`, offset off the surface to the side of `w`.
-    pub fn spawn_ray(&self, w: Vec3) -> Ray {
-        Ray::new(crate::core::geometry::offset_origin(self.p, self.p_err, self.ng, w), w)
-    }
-
-    /// A shadow ray towards a point at distance `dist` in direction `w` (stops just short of it;
-    /// `dist` = infinity for distant lights).
-    #[inline(always)]
-    pub fn spawn_shadow_ray(&self, w: Vec3, dist: f32) -> Ray {
-        let o = crate::core::geometry::offset_origin(self.p, self.p_err, self.ng, w);
-        let mut r = Ray::new(o, w);
-        if dist.is_finite() {
-            r.t_max = (dist * (1.0 - 1e-4)).max(0.0);
-        }
-        r
-    }
-}
-
 /// Largest |coordinate| (metres) of a vertex that is kept: triangles further out are dropped like
 /// non-finite ones. Beyond it, squared extents in the BVH builder's surface-area costs overflow
 /// f32 and obvhs builds an invalid tree (an index out of bounds, found by fuzzing); 1e15 m is ten
@@ -142,34 +75,6 @@ fn triangle_key(v: &[Vec3; 3]) -> [u32; 9] {
         k[3 * j..3 * j + 3].copy_from_slice(&r[(first + j) % 3]);
     }
     k
-}
-
-/// The shading normal `ns` perturbed by tangent-space normal `n` (glTF convention: +X along
-/// increasing u, +Y along decreasing v, +Z = `ns`), with the tangent frame from the triangle's
-/// texture coordinates `uv`; `ns` unchanged when the frame or the result is degenerate. The result
-/// stays on the side of `ng`.
-fn normal_mapped(g: &TriangleGeom, uv: &[Vec2], ns: Vec3, ng: Vec3, n: Vec3) -> Vec3 {
-    let (d1, d2) = (uv[1] - uv[0], uv[2] - uv[0]);
-    let det = d1.x * d2.y - d1.y * d2.x;
-    if det == 0.0 || !det.is_finite() {
-        return ns;
-    }
-    let (e1, e2) = (Vec3::from(g.e1), Vec3::from(g.e2));
-    let dpdu = (e1 * d2.y - e2 * d1.y) / det;
-    let dpdv = (e2 * d1.x - e1 * d2.x) / det;
-    let t = (dpdu - ns * ns.dot(dpdu)).normalize_or_zero();
-    if t == Vec3::ZERO || !t.is_finite() {
-        return ns;
-    }
-    let mut b = ns.cross(t);
-    if b.dot(dpdv) > 0.0 {
-        b = -b;
-    }
-    let m = (t * n.x + b * n.y + ns * n.z).normalize_or_zero();
-    if m == Vec3::ZERO || !m.is_finite() {
-        return ns;
-    }
-    if m.dot(ng) < 0.0 { -m } else { m }
 }
 
 /// The render-time scene.
