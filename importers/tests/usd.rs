@@ -501,3 +501,23 @@ fn dome_light_1_pole_axis_sets_the_domes_starting_alignment() {
     let e = frame("Y", "DomeLight_1", "    uniform token poleAxis = \"X\"\n").unwrap_err();
     assert!(e.contains("poleAxis") && e.contains("/Sky"), "{e}");
 }
+
+/// Whole numbers written as integer literals, as Python and `usdcat` write them in time samples
+/// (`float inputs:intensity.timeSamples = { 0: 10 }`, `color3f ... = { 0: (1, 1, 1) }`), read
+/// as the declared float, as Pixar's USD does (issue 51: "expected a number, got Int64(10)").
+#[test]
+fn integer_literals_of_float_attributes_are_numbers() {
+    let dir = tempfile::tempdir().unwrap();
+    let stage = |intensity: &str, colour: &str| {
+        let text = format!(
+            "#usda 1.0\n(\n    metersPerUnit = 1\n    upAxis = \"Y\"\n)\ndef Mesh \"M\" {{\n    point3f[] points = [(0,0,0), (1,0,0), (0,1,0)]\n    int[] faceVertexCounts = [3]\n    int[] faceVertexIndices = [0, 1, 2]\n}}\ndef SphereLight \"L\" {{\n    float inputs:intensity.timeSamples = {{ 0: {intensity} }}\n    color3f inputs:color.timeSamples = {{ 0: {colour} }}\n    float inputs:radius = 0.1\n}}\n"
+        );
+        let p = dir.path().join("lamp.usda");
+        std::fs::write(&p, text).unwrap();
+        let s = import_scene(&p, &ImportOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+        let lamp = s.meshes.iter().find(|m| m.emission.is_some()).expect("the sphere light");
+        let e = lamp.emission.clone().unwrap();
+        (e.scale, e.spectrum.luminance())
+    };
+    assert_eq!(stage("10", "(1, 1, 1)"), stage("10.0", "(1.0, 1.0, 1.0)"));
+}

@@ -56,7 +56,9 @@ fn wrong(name: &str, want: &str, v: &Value) -> AttrError {
     (name.to_string(), format!("expected {want}, got {got}"))
 }
 
-/// A scalar number (`float`, `double`, `half`, `int`).
+/// A scalar number (`float`, `double`, `half`, or any integer: a whole number written as an
+/// integer literal, as Python and `usdcat` write `10` in time samples, which openusd reads as
+/// `Int64` where Pixar's USD reads the attribute's declared float).
 pub(super) fn scalar(prim: &Prim, name: &str) -> Result<Option<f64>, AttrError> {
     Ok(match raw(prim, name)? {
         None => None,
@@ -64,6 +66,10 @@ pub(super) fn scalar(prim: &Prim, name: &str) -> Result<Option<f64>, AttrError> 
         Some(Value::Double(d)) => Some(d),
         Some(Value::Half(h)) => Some(f64::from(f32::from(h))),
         Some(Value::Int(i)) => Some(f64::from(i)),
+        Some(Value::Int64(i)) => Some(i as f64),
+        Some(Value::Uint(i)) => Some(f64::from(i)),
+        Some(Value::Uint64(i)) => Some(i as f64),
+        Some(Value::Uchar(i)) => Some(f64::from(i)),
         Some(v) => return Err(wrong(name, "a number", &v)),
     })
 }
@@ -100,6 +106,8 @@ fn vec3_of(v: &Value) -> Option<Vec3> {
         Value::Vec3f(a) => Vec3::new(a[0], a[1], a[2]),
         Value::Vec3d(a) => Vec3::new(a[0] as f32, a[1] as f32, a[2] as f32),
         Value::Vec3h(a) => Vec3::new(f32::from(a[0]), f32::from(a[1]), f32::from(a[2])),
+        // whole numbers written as integers (time samples `{0: (1, 2, 3)}`)
+        Value::Vec3i(a) => Vec3::new(a[0] as f32, a[1] as f32, a[2] as f32),
         _ => return None,
     })
 }
