@@ -521,3 +521,26 @@ fn integer_literals_of_float_attributes_are_numbers() {
     };
     assert_eq!(stage("10", "(1, 1, 1)"), stage("10.0", "(1.0, 1.0, 1.0)"));
 }
+
+/// A stage with native instancing imports to the same meshes as its flattened binary copy, and
+/// to what Pixar draws from both (issue 51: the flattened `.usdc` gave the prototypes' meshes
+/// once more, because its root `over` prim leaves the specifier unauthored).
+#[test]
+fn a_flattened_instanced_stage_imports_like_the_original() {
+    let exp = expected("instanced.usda");
+    let summary = |name: &str| {
+        let s = import(name);
+        let mut meshes: Vec<(String, usize)> = s.meshes.iter().map(|m| (m.name.clone(), m.indices.len())).collect();
+        meshes.sort();
+        meshes
+    };
+    let (usda, usdc) = (summary("instanced.usda"), summary("instanced_flat.usdc"));
+    for (name, got) in [("instanced.usda", &usda), ("instanced_flat.usdc", &usdc)] {
+        let want = &exp["drawn"][name];
+        assert_eq!(got.len() as u64, want["meshes"].as_u64().unwrap(), "{name}: {got:?}");
+        let tris: usize = got.iter().map(|m| m.1).sum();
+        assert_eq!(tris as u64, want["triangles"].as_u64().unwrap(), "{name}: {got:?}");
+    }
+    let tris = |v: &[(String, usize)]| v.iter().map(|m| m.1).collect::<Vec<_>>();
+    assert_eq!(tris(&usda), tris(&usdc));
+}

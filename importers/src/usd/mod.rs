@@ -265,8 +265,10 @@ fn import_stage(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportEr
         }
         let ty = prim.type_name().ok().flatten().map(|t| t.as_str().to_string()).unwrap_or_default();
         // Pixar's default traversal: defined prims only (an `over` without a `def` and `class`
-        // prims are not drawn), except the prototypes an instancer draws (often under an `over`)
-        let defining = prim.specifier().ok().flatten().is_none_or(|sp| sp == sdf::Specifier::Def);
+        // prims are not drawn), except the prototypes an instancer draws (often under an `over`).
+        // An unauthored specifier is Sdf's fallback, `over`: a binary layer leaves it out for
+        // the root `over` prims that UsdStage.Flatten() writes for instancing prototypes
+        let defining = prim.specifier().ok().flatten() == Some(sdf::Specifier::Def);
         if !(defining || prototype)
             || !prim.is_active().unwrap_or(true)
             || matches!(ty.as_str(), "Material" | "Shader" | "NodeGraph" | "GeomSubset")

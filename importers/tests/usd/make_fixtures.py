@@ -212,6 +212,47 @@ def composed():
     return stage
 
 
+def instanced():
+    """instanced.usda: three instanceable references to instanced_asset.usda (two meshes each)
+    and a ground, and instanced_flat.usdc, the same stage after UsdStage.Flatten(), which writes
+    the prototype as a root `over` prim (its specifier left to Sdf's fallback, `over`, in the
+    binary file) that the instances reference. Pixar draws the same meshes from both."""
+    asset = Usd.Stage.CreateNew(path("instanced_asset.usda"))
+    UsdGeom.SetStageUpAxis(asset, UsdGeom.Tokens.y)
+    root = UsdGeom.Xform.Define(asset, "/Asset")
+    asset.SetDefaultPrim(root.GetPrim())
+    for i, name in enumerate(["A", "B"]):
+        m = UsdGeom.Mesh.Define(asset, f"/Asset/{name}")
+        m.CreatePointsAttr([(i, 0, 0), (i + 1, 0, 0), (i + 1, 1, 0), (i, 1, 0)])
+        m.CreateFaceVertexCountsAttr([4])
+        m.CreateFaceVertexIndicesAttr([0, 1, 2, 3])
+        m.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
+    asset.GetRootLayer().Save()
+    stage = Usd.Stage.CreateNew(path("instanced.usda"))
+    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.y)
+    UsdGeom.SetStageMetersPerUnit(stage, 1.0)
+    UsdGeom.Xform.Define(stage, "/World")
+    for k in range(3):
+        x = UsdGeom.Xform.Define(stage, f"/World/inst{k}")
+        x.AddTranslateOp().Set(Gf.Vec3d(3 * (k + 1), 0, 0))
+        x.GetPrim().GetReferences().AddReference("./instanced_asset.usda")
+        x.GetPrim().SetInstanceable(True)
+    g = UsdGeom.Mesh.Define(stage, "/World/ground")
+    g.CreatePointsAttr([(-5, 0, -5), (5, 0, -5), (5, 0, 5), (-5, 0, 5)])
+    g.CreateFaceVertexCountsAttr([4])
+    g.CreateFaceVertexIndicesAttr([0, 1, 2, 3])
+    g.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
+    stage.GetRootLayer().Save()
+    stage.Flatten().Export(path("instanced_flat.usdc"))
+    counts = {}
+    for name in ["instanced.usda", "instanced_flat.usdc"]:
+        st = Usd.Stage.Open(path(name))
+        meshes = [p for p in Usd.PrimRange(st.GetPseudoRoot(), Usd.TraverseInstanceProxies()) if p.IsA(UsdGeom.Mesh)]
+        tris = sum(sum(c - 2 for c in UsdGeom.Mesh(p).GetFaceVertexCountsAttr().Get()) for p in meshes)
+        counts[name] = {"meshes": len(meshes), "triangles": tris}
+    return {"file": "instanced.usda", "drawn": counts}
+
+
 def shapes():
     """shapes.usda: every implicit shape (schema defaults and authored sizes, each axis), a
     PointInstancer (two prototypes under it, orientations, scales, an invisible id), and a mesh
@@ -499,7 +540,7 @@ def expected(stage, file):
 
 if __name__ == "__main__":
     result = [expected(scene(), "scene.usda"), expected(lights(), "lights.usda"), expected(composed(), "composed.usdc"),
-              expected_shapes(shapes()), expected_textures(textures()), usdz()]
+              expected_shapes(shapes()), expected_textures(textures()), usdz(), instanced()]
     with open(path("expected.json"), "w") as f:
         json.dump(result, f, indent=1, sort_keys=True)
         f.write("\n")
