@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 
 use super::{HorizontalSymmetry, PhotometricType, PhotometricWeb};
 use crate::error::{ErrorPlace, ImportError, ImportErrorKind};
-use crate::small_text::read_small_text;
+use crate::small_text::read_legacy_text;
 
 /// Most C planes or gamma angles.
 pub const MAX_LDT_ANGLES: usize = 10_000;
@@ -101,7 +101,7 @@ impl<'a> Lines<'a> {
 
 /// Reads the EULUMDAT file at `path`.
 pub fn read_ldt(path: &Path) -> Result<LdtFile, ImportError> {
-    let text = read_small_text(path, "EULUMDAT file")?;
+    let text = read_legacy_text(path, "EULUMDAT file")?;
     parse_ldt(&text, path)
 }
 

@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 
 use super::{HorizontalSymmetry, PhotometricType, PhotometricWeb};
 use crate::error::{ErrorPlace, ImportError, ImportErrorKind};
-use crate::small_text::read_small_text;
+use crate::small_text::read_legacy_text;
 
 /// Most angles on either axis.
 pub const MAX_IES_ANGLES: usize = 100_000;
@@ -154,7 +154,7 @@ impl<'a> Numbers<'a> {
 
 /// Reads the IES file at `path`.
 pub fn read_ies(path: &Path) -> Result<IesFile, ImportError> {
-    let text = read_small_text(path, "IES file")?;
+    let text = read_legacy_text(path, "IES file")?;
     parse_ies(&text, path)
 }
 
@@ -204,7 +204,7 @@ pub fn parse_ies(text: &str, path: &Path) -> Result<IesFile, ImportError> {
         "INCLUDE" => Some(tilt_table(&mut nums)?),
         _ => {
             let file = path.parent().unwrap_or(Path::new(".")).join(&tilt);
-            let t = read_small_text(&file, "IES tilt file").map_err(|e| {
+            let t = read_legacy_text(&file, "IES tilt file").map_err(|e| {
                 ImportError::new(e.kind, ErrorPlace::line(path, tilt_n), format!("TILT={tilt}: {}", e.message))
             })?;
             let mut tn = Numbers::new(&file, t.lines().enumerate().map(|(i, l)| (i + 1, l)))?;
@@ -358,6 +358,27 @@ TILT=NONE
         assert!((w.intensity_at(123.0, 45.0) - 70.7 * 1.8).abs() < 1e-3);
         assert_eq!(w.intensity_at(0.0, 100.0), 0.0);
         assert_eq!(f.input_watts, 12.0);
+    }
+
+    /// A label with a Latin-1 byte (a degree sign, 0xB0, as manufacturers' tools write it) is
+    /// read as Latin-1 (issue 51: "not valid UTF-8"); an EULUMDAT file likewise.
+    #[test]
+    fn latin1_labels_are_read() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut bytes = DOWNLIGHT.replace("[LUMCAT] DL-1", "[LUMCAT] DL-1 60").into_bytes();
+        let at = bytes.windows(5).position(|w| w == b"DL-1 ").unwrap() + 7;
+        bytes.insert(at, 0xB0);
+        let p = dir.path().join("latin1.ies");
+        std::fs::write(&p, &bytes).unwrap();
+        let f = read_ies(&p).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(f.web.label, "Example Lighting DL-1 60\u{b0}");
+        let mut ldt = crate::photometry::eulumdat::tests::ldt(1, 24, |_, _| 10.0).into_bytes();
+        let at = ldt.windows(9).position(|w| w == b"Downlight").unwrap() + 9;
+        ldt.splice(at..at, b" 60\xB0".iter().copied());
+        let p = dir.path().join("latin1.ldt");
+        std::fs::write(&p, &ldt).unwrap();
+        let w = crate::photometry::eulumdat::read_ldt(&p).unwrap_or_else(|e| panic!("{e}")).web;
+        assert!(w.label.contains("Downlight 60\u{b0}"), "{}", w.label);
     }
 
     /// The numbers may run across lines and be separated by commas; a 1995 file applies its
