@@ -13,6 +13,12 @@ fn main() -> ExitCode {
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
+    let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    if args.get(1).is_some_and(|a| a == cli::usd_isolation::CHILD_ARG) {
+        return cli::usd_isolation::child(&args[2..]);
+    }
+    // every USD stage is read once in a child process first (cli/usd_isolation.rs)
+    quasar_importers::set_usd_reader_guard(cli::usd_isolation::guard);
     match cli::run() {
         Ok(code) => code,
         Err(e) => {

@@ -46,4 +46,5 @@ pub use scene_desc::*;
 pub use sensor_desc::{SensorDesc, SensorLayout, SensorQuantity};
 pub use small_text::MAX_SMALL_FILE_BYTES;
 pub use toml_scene::TomlSceneImporter;
+pub use usd::reader_guard::{UsdReaderGuard, set_usd_reader_guard};
 pub use usd::{UsdImporter, import_usd};

@@ -4,6 +4,7 @@
 mod interrupt;
 mod parse;
 mod render;
+pub mod usd_isolation;
 
 use std::path::PathBuf;
 use std::process::ExitCode;

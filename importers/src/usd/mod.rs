@@ -23,6 +23,7 @@ mod instancer;
 mod light;
 mod material;
 mod mesh;
+pub mod reader_guard;
 mod shapes;
 mod texture;
 mod value;
@@ -170,11 +171,14 @@ impl Materials {
 /// The message of an import that a panic in the USD reader ended (see [`import_usd`]).
 pub const USD_READER_PANIC: &str = "the USD reader (openusd 0.6.0) failed on malformed data";
 
-/// Imports the USD file `path` (see the module documentation). openusd 0.6.0 panics on some
+/// Imports the USD file `path` (see the module documentation), after the process's reader guard
+/// ([`reader_guard`]; the `quasar` binary reads the stage in a child process first). openusd 0.6.0 panics on some
 /// malformed crate files (unchecked table indices, found by `fuzz/fuzz_targets/usd.rs`); such a
 /// panic ends the import with an error naming the file ([`USD_READER_PANIC`]) instead of the
 /// process.
 pub fn import_usd(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportError> {
+    reader_guard::check(path, opts)
+        .map_err(|msg| ImportError::new(ImportErrorKind::Unsupported, ErrorPlace::file(path), msg))?;
     // (a TimeScope set inside is restored by its Drop while unwinding)
     std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| import_stage(path, opts))).unwrap_or_else(|payload| {
         let msg = payload
