@@ -528,6 +528,13 @@ fn info_shows_the_lights_in_photometric_units() {
     {
         assert!(text.contains(needle), "{needle:?} missing: {text}");
     }
+    // a USD stage: bounds in metres, the prims drawn and skipped, the time code (issue 51)
+    let usd = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/usd/cornell-box.usda");
+    let o = quasar().arg("info").arg(&usd).output().unwrap();
+    let text = String::from_utf8_lossy(&o.stdout);
+    for needle in ["bounds: ", " m (size ", "USD prims: ", "USD prims skipped", "USD time code: "] {
+        assert!(text.contains(needle), "{needle:?} missing: {text}");
+    }
 }
 
 /// `--spectral-bins` writes its bins into `<stem>.spectral.exr`; the image keeps the standard

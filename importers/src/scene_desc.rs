@@ -380,6 +380,9 @@ pub struct SceneDesc {
     pub source: PathBuf,
     /// Virtual illuminance sensors (`[[sensor]]`), measured in the same run as the image.
     pub sensors: Vec<crate::sensor_desc::SensorDesc>,
+    /// What the import did, for `quasar info` (USD: the prims drawn and skipped with the
+    /// reasons, the time code read); empty for formats with nothing to say.
+    pub import_summary: Vec<String>,
 }
 
 impl SceneDesc {

@@ -544,3 +544,21 @@ fn a_flattened_instanced_stage_imports_like_the_original() {
     let tris = |v: &[(String, usize)]| v.iter().map(|m| m.1).collect::<Vec<_>>();
     assert_eq!(tris(&usda), tris(&usdc));
 }
+
+/// The import says what it drew and skipped, with the reasons, and the time code it read, for
+/// `quasar info` (issue 51, item 4).
+#[test]
+fn the_import_summary_counts_prims_drawn_and_skipped() {
+    let s = import("scene.usda");
+    let text = s.import_summary.join("\n");
+    assert!(
+        text.contains("1 inactive") && text.contains("1 invisible") && text.contains("1 purpose proxy or guide"),
+        "{text}"
+    );
+    // as many as Pixar's traversal renders
+    let pixar = expected("scene.usda")["meshes"].as_object().unwrap().len();
+    assert!(text.contains(&format!("{pixar} meshes or shapes drawn")), "{text}");
+    assert!(text.contains("USD time code: the earliest time sample"), "{text}");
+    let flat = import("instanced_flat.usdc").import_summary.join("\n");
+    assert!(flat.contains("1 not defined (an `over` or `class`)"), "{flat}");
+}

@@ -314,6 +314,7 @@ pub fn import_gltf(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Impor
         render,
         source: path.to_owned(),
         sensors: Vec::new(),
+        import_summary: Vec::new(),
     })
 }
 

@@ -152,6 +152,7 @@ fn parse_at_depth(
         render,
         source: path.to_owned(),
         sensors,
+        import_summary: Vec::new(),
     })
 }
 

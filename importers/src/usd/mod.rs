@@ -168,6 +168,44 @@ impl Materials {
     }
 }
 
+/// Prims drawn and skipped during an import, for `quasar info` ([`SceneDesc::import_summary`]).
+#[derive(Default)]
+struct PrimTally {
+    /// Prims traversed past the skip rules (Xforms, Scopes and everything drawn).
+    visited: usize,
+    /// Meshes and implicit shapes drawn (each instance counted).
+    drawn: usize,
+    /// Lights read.
+    lights: usize,
+    /// Skipped prims (and their subtrees' roots) by reason.
+    skipped: std::collections::BTreeMap<String, usize>,
+}
+
+impl PrimTally {
+    fn skip(&mut self, reason: &str) {
+        *self.skipped.entry(reason.to_string()).or_default() += 1;
+    }
+
+    /// The summary lines: prims drawn, skipped by reason, and the time code read.
+    fn lines(&self, cameras: usize, time_code: Option<f64>) -> Vec<String> {
+        let mut v = vec![format!(
+            "USD prims: {} traversed, {} meshes or shapes drawn (instances counted), {} lights, {cameras} cameras",
+            self.visited, self.drawn, self.lights
+        )];
+        if self.skipped.is_empty() {
+            v.push("USD prims skipped: none".into());
+        } else {
+            let s: Vec<String> = self.skipped.iter().map(|(why, n)| format!("{n} {why}")).collect();
+            v.push(format!("USD prims skipped (with their subtrees): {}", s.join(", ")));
+        }
+        v.push(match time_code {
+            Some(t) => format!("USD time code: {t} (--time-code)"),
+            None => "USD time code: the earliest time sample of each attribute (--time-code T for another)".into(),
+        });
+        v
+    }
+}
+
 /// The message of an import that a panic in the USD reader ended (see [`import_usd`]).
 pub const USD_READER_PANIC: &str = "the USD reader (openusd 0.6.0) failed on malformed data";
 
@@ -248,6 +286,7 @@ fn import_stage(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportEr
     let mut cameras: Vec<NamedCamera> = Vec::new();
     let mut triangles = 0u64;
     let mut visits = 0usize;
+    let mut tally = PrimTally::default();
     let pseudo_root = stage.prim(sdf::Path::abs_root());
     let children =
         |p: &Prim| p.children().map_err(|e| err(ImportErrorKind::Syntax, path, p.path().as_str(), format!("{e:#}")));
@@ -273,21 +312,30 @@ fn import_stage(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportEr
         // An unauthored specifier is Sdf's fallback, `over`: a binary layer leaves it out for
         // the root `over` prims that UsdStage.Flatten() writes for instancing prototypes
         let defining = prim.specifier().ok().flatten() == Some(sdf::Specifier::Def);
-        if !(defining || prototype)
-            || !prim.is_active().unwrap_or(true)
-            || matches!(ty.as_str(), "Material" | "Shader" | "NodeGraph" | "GeomSubset")
-        {
+        if matches!(ty.as_str(), "Material" | "Shader" | "NodeGraph" | "GeomSubset") {
+            continue;
+        }
+        if !(defining || prototype) {
+            tally.skip("not defined (an `over` or `class`)");
+            continue;
+        }
+        if !prim.is_active().unwrap_or(true) {
+            tally.skip("inactive");
             continue;
         }
         let view = AnyXformable(prim.clone());
         let visibility = value::token(&prim, "visibility").map_err(|e| attr_err(path, &at, e))?;
         let purpose = value::token(&prim, "purpose").map_err(|e| attr_err(path, &at, e))?;
         // rendered purposes: default and render (proxy, guide and unknown tokens are not drawn)
-        if visibility.as_deref() == Some("invisible")
-            || !matches!(purpose.as_deref(), None | Some("default" | "render"))
-        {
+        if visibility.as_deref() == Some("invisible") {
+            tally.skip("invisible");
             continue;
         }
+        if !matches!(purpose.as_deref(), None | Some("default" | "render")) {
+            tally.skip("purpose proxy or guide");
+            continue;
+        }
+        tally.visited += 1;
         value::check_op_order(&prim).map_err(|e| attr_err(path, &at, e))?;
         let local = view
             .local_to_parent_transform(value::time())
@@ -314,10 +362,12 @@ fn import_stage(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportEr
                     );
                 }
                 let subsets = mesh::material_subsets(&prim).map_err(|e| attr_err(path, &at, e))?;
+                tally.drawn += 1;
                 Some((local_mesh, subsets))
             }
             t if SHAPE_TYPES.contains(&t) => {
                 let mesh = shapes::read_shape(&prim, t, at.clone()).map_err(|e| attr_err(path, &at, e))?;
+                tally.drawn += 1;
                 Some((mesh::LocalMesh { mesh, subdivision: "none".into(), faces: Vec::new() }, Vec::new()))
             }
             "Camera" => {
@@ -343,6 +393,9 @@ fn import_stage(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportEr
                 for n in notes {
                     warnings.push(format!("{}: {at}: {n}", path.display()));
                 }
+                if !matches!(l, UsdLight::Skipped(_)) {
+                    tally.lights += 1;
+                }
                 match l {
                     UsdLight::Light(l) => lights.push(l),
                     UsdLight::Mesh(mut m) => {
@@ -352,12 +405,16 @@ fn import_stage(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportEr
                         add_triangles(&mut triangles, m.indices.len(), path, &at)?;
                         meshes.push(m);
                     }
-                    UsdLight::Skipped(why) => warnings.push(format!("{}: {at}: {why}; skipped", path.display())),
+                    UsdLight::Skipped(why) => {
+                        tally.skip("a light quasar cannot draw");
+                        warnings.push(format!("{}: {at}: {why}; skipped", path.display()))
+                    }
                 }
                 None
             }
             "Points" | "BasisCurves" | "NurbsCurves" | "NurbsPatch" | "HermiteCurves" | "TetMesh" => {
                 warn_once(&ty, format!("{at}: {ty} prims are not rendered (surfaces only)"), &mut warnings);
+                tally.skip(&format!("{ty} (not a surface)"));
                 None
             }
             _ => None,
@@ -420,6 +477,7 @@ fn import_stage(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportEr
     }
     let mut render = crate::scene_desc::RenderSettings::default();
     let camera = crate::framing::scene_camera(&cameras, &meshes, &mut render);
+    let cameras_len = cameras.len();
     Ok(SceneDesc {
         materials: mats.descs,
         meshes,
@@ -431,5 +489,6 @@ fn import_stage(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportEr
         render,
         source: path.to_owned(),
         sensors: Vec::new(),
+        import_summary: tally.lines(cameras_len, opts.time_code),
     })
 }
