@@ -13,8 +13,9 @@
 //! # MTL -> material mapping
 //! One analytic model per material, so a Kd + Ks blend keeps only its dominant lobe:
 //! - **Transparent** (`illum` 4, 6, 7 or 9, or `d` < 1, or `Tr` > 0 when `d` is absent) ->
-//!   [`Material::Dielectric`] with `ior = Ni` (when `Ni` > 1, else 1.5). `Tf` alone does not make
-//!   a material transparent (many exporters write `Tf 1 1 1` for opaque materials).
+//!   [`Material::Dielectric`] with `ior = Ni` (when `Ni` > 1, else 1.5), tinted by `Tf` (the
+//!   transmission filter, in [0, 1]) at each crossing. `Tf` alone does not make a material
+//!   transparent (many exporters write `Tf 1 1 1` for opaque materials).
 //! - **Specular-dominant** (mean(Ks) > 0 and mean(Kd) < 0.1 * mean(Ks), i.e. Kd is ~black
 //!   relative to Ks) -> [`Material::Conductor`] with the angle-independent Fresnel reflectance
 //!   `Ks` (RGB reflectance uplift), two-sided.
@@ -188,7 +189,12 @@ fn convert_mtl(m: &MtlMaterial) -> Result<(Material, Option<EmissionDesc>), Impo
             Some(n) if n > 1.0 => n,
             _ => 1.5,
         };
-        Material::Dielectric { ior: Ior::Constant(ior), alpha, transmittance: None }
+        // `Tf`, the transmission filter, tints the transmitted light (white: clear)
+        let transmittance = match e.tf.filter(|&tf| tf != [1.0; 3]) {
+            Some(tf) => Some(Spectrum::rgb_reflectance(tf).map_err(|x| err("Tf", format!("Tf: {x}")))?),
+            None => None,
+        };
+        Material::Dielectric { ior: Ior::Constant(ior), alpha, transmittance }
     } else {
         let ks = t.specular.unwrap_or([0.0; 3]);
         let kd = t.diffuse.unwrap_or(if t.specular.is_some() { [0.0; 3] } else { [DEFAULT_GREY; 3] });

@@ -102,6 +102,7 @@ illum 7
 
 newmtl tr_glass
 Tr 0.5
+Tf 0.2 0.8 0.4
 
 newmtl lamp
 Kd 0.2 0.2 0.2
@@ -140,7 +141,9 @@ fn mtl_mapping() {
     );
     assert_eq!(mat("glass"), &Material::Dielectric { ior: Ior::Constant(1.52), alpha: 0.0, transmittance: None });
     assert_eq!(mat("glass2"), &Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.0, transmittance: None });
-    assert!(matches!(mat("tr_glass"), Material::Dielectric { .. }));
+    // `Tf` tints the transmitted light (issue 52's coloured glass, for MTL)
+    let tint = Some(Spectrum::rgb_reflectance([0.2, 0.8, 0.4]).unwrap());
+    assert_eq!(mat("tr_glass"), &Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.0, transmittance: tint });
     assert_eq!(
         mat("empty"),
         &Material::Diffuse { reflectance: Spectrum::rgb_reflectance([0.8; 3]).unwrap(), two_sided: true }
