@@ -27,17 +27,21 @@ const SIDES: [Vec3; 4] = [Vec3::Z, Vec3::NEG_Z, Vec3::X, Vec3::NEG_X];
 /// Share of a side's score S(d) its openness O(d) must exceed for the side to be chosen.
 const MIN_OPENNESS: f64 = 0.1;
 
-/// The framing camera of `meshes` (module documentation), or None when they have no finite
-/// vertex.
-pub fn framing_camera(meshes: &[MeshDesc]) -> Option<CameraDesc> {
+/// The axis-aligned box (min, max corners) of the finite vertices of `meshes`, or None when they
+/// have none.
+pub fn mesh_bounds(meshes: &[MeshDesc]) -> Option<(Vec3, Vec3)> {
     let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
     for p in meshes.iter().flat_map(|m| m.positions.iter()).filter(|p| p.is_finite()) {
         lo = lo.min(*p);
         hi = hi.max(*p);
     }
-    if lo.x > hi.x {
-        return None;
-    }
+    (lo.x <= hi.x).then_some((lo, hi))
+}
+
+/// The framing camera of `meshes` (module documentation), or None when they have no finite
+/// vertex.
+pub fn framing_camera(meshes: &[MeshDesc]) -> Option<CameraDesc> {
+    let (lo, hi) = mesh_bounds(meshes)?;
     Some(framing_camera_of_box(lo, hi, open_side(meshes)))
 }
 

@@ -285,23 +285,21 @@ pub fn render(args: RenderArgs) -> Result<ExitCode> {
     if let Some(p) = &ov.checkpoint {
         check_output(&scene, p, "", "--checkpoint")?;
     }
-    if ov.spectral_bins.is_some() {
+    // the files written beside the image need a folder to be written in
+    let beside = |path: PathBuf, flag: &str, what: &str| -> Result<()> {
         if exr_is_stream {
             anyhow::bail!(
-                "--spectral-bins writes its bins beside the image, and {} is a device or a pipe: give -o a file path",
+                "{flag} writes {what} beside the image, and {} is a device or a pipe: give -o a file path",
                 exr.display()
             );
         }
-        check_output(&scene, &quasar::render::job::spectral_file_path(&exr), "", "--spectral-bins")?;
-    }
-    if exr_is_stream && false_colour.is_some() {
-        anyhow::bail!(
-            "--false-colour writes its PNG beside the image, and {} is a device or a pipe: give -o a file path",
-            exr.display()
-        );
+        check_output(&scene, &path, "", flag).map(drop)
+    };
+    if ov.spectral_bins.is_some() {
+        beside(quasar::render::job::spectral_file_path(&exr), "--spectral-bins", "its bins")?;
     }
     if let Some(q) = &false_colour {
-        check_output(&scene, &exr.with_file_name(format!("{}.{q}.png", file_stem(&exr))), "", "--false-colour")?;
+        beside(exr.with_file_name(format!("{}.{q}.png", file_stem(&exr))), "--false-colour", "its PNG")?;
     }
     let sensors_written = !desc.sensors.is_empty() && !exr_is_stream;
     if !desc.sensors.is_empty() && exr_is_stream {

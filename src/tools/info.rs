@@ -55,12 +55,7 @@ pub fn report(path: &Path, desc: &SceneDesc, compiled: &Scene) -> String {
             sensor.samples
         );
     }
-    let (mut lo, mut hi) = (glam::Vec3::splat(f32::INFINITY), glam::Vec3::splat(f32::NEG_INFINITY));
-    for p in desc.meshes.iter().flat_map(|m| m.positions.iter()).filter(|p| p.is_finite()) {
-        lo = lo.min(*p);
-        hi = hi.max(*p);
-    }
-    if lo.x <= hi.x {
+    if let Some((lo, hi)) = quasar_importers::framing::mesh_bounds(&desc.meshes) {
         let _ = writeln!(s, "bounds: {} to {} m (size {} m)", vec3(lo), vec3(hi), vec3(hi - lo));
     }
     let _ = writeln!(s, "bounding sphere: centre {}, radius {}", vec3(compiled.center), compiled.radius);

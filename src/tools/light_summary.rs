@@ -15,7 +15,7 @@ pub fn light_lines(desc: &SceneDesc) -> Vec<String> {
     let mut lines: Vec<String> = desc.lights.iter().map(light_line).collect();
     for m in &desc.meshes {
         let Some(e) = m.emission.as_ref().filter(|e| e.scale > 0.0) else { continue };
-        let luminance = e.scale * e.spectrum.luminance() * LUMINANCE_PER_Y;
+        let luminance = photometric(e.scale, &e.spectrum);
         let area = m.area() as f32;
         let sides = if e.two_sided { 2.0 } else { 1.0 };
         lines.push(format!(
@@ -30,15 +30,21 @@ pub fn light_lines(desc: &SceneDesc) -> Vec<String> {
     lines
 }
 
+/// The photometric quantity of `scale` x `spectrum` (cd, lx or cd/m², as the radiometric one is
+/// an intensity, irradiance or radiance): 683 lm/W x the integral of ybar times its luminance Y.
+fn photometric(scale: f32, spectrum: &quasar_materials::spectrum::Spectrum) -> f32 {
+    scale * spectrum.luminance() * LUMINANCE_PER_Y
+}
+
 /// The line of one light.
 fn light_line(l: &LightDesc) -> String {
     match l {
         LightDesc::Point { position, spectrum, scale } => {
-            let i = scale * spectrum.luminance() * LUMINANCE_PER_Y;
+            let i = photometric(*scale, spectrum);
             format!("point light at {}: {} cd, {} lm", vec3(*position), num(i), num(4.0 * PI * i))
         }
         LightDesc::Spot { position, direction, cone_deg, falloff_start_deg, spectrum, scale } => {
-            let i = scale * spectrum.luminance() * LUMINANCE_PER_Y;
+            let i = photometric(*scale, spectrum);
             // full inside the falloff start, a smoothstep in cos theta (mean 1/2) out to the cone
             let (cs, cc) = (falloff_start_deg.to_radians().cos(), cone_deg.to_radians().cos());
             let flux = 2.0 * PI * i * (1.0 - 0.5 * (cs + cc));
@@ -53,11 +59,11 @@ fn light_line(l: &LightDesc) -> String {
             )
         }
         LightDesc::Directional { direction, spectrum, scale } => {
-            let e = scale * spectrum.luminance() * LUMINANCE_PER_Y;
+            let e = photometric(*scale, spectrum);
             format!("directional light towards {}: {} lx on a surface facing it", vec3(*direction), num(e))
         }
         LightDesc::Luminaire { position, frame, web, scale, spectrum, opening } => {
-            let factor = scale * LUMINANCE_PER_Y * spectrum.luminance();
+            let factor = photometric(*scale, spectrum);
             let stated = web.lamp_lumens.map_or("absolute photometry".to_string(), |l| format!("lamp {} lm", num(l)));
             format!(
                 "luminaire: {} ({}) at {}, nadir towards {}: {} lm ({stated}), peak {} cd, x {}, {}",
@@ -77,7 +83,7 @@ fn light_line(l: &LightDesc) -> String {
         }
         LightDesc::Environment { spectrum, scale, map } => match map {
             None => {
-                let l = scale * spectrum.luminance() * LUMINANCE_PER_Y;
+                let l = photometric(*scale, spectrum);
                 format!(
                     "environment: {} cd/m² from every direction ({} lx on an open horizontal plane)",
                     num(l),

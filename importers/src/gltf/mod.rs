@@ -282,14 +282,8 @@ pub fn import_gltf(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Impor
     }
     warnings.extend(std::mem::take(&mut loader.warnings));
 
-    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-    for m in &meshes {
-        for p in &m.positions {
-            lo = lo.min(*p);
-            hi = hi.max(*p);
-        }
-    }
-    let center = if lo.x <= hi.x { 0.5 * (lo + hi) } else { Vec3::ZERO };
+    // (the positions are finite: checked after the node transforms)
+    let center = crate::framing::mesh_bounds(&meshes).map_or(Vec3::ZERO, |(lo, hi)| 0.5 * (lo + hi));
     let cameras: Vec<NamedCamera> = {
         let mut names: Vec<String> = Vec::new();
         finish_cameras(collected.cameras, center)
