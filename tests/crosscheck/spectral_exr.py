@@ -1,12 +1,13 @@
 #!/usr/bin/env python3
 """Independent check of quasar's spectral EXR output (`--spectral-bins`, docs/photometry.md).
 
-quasar renders the shipped Cornell box with 94 bins of 5 nm; colour-science's reader of the
-layout of Fichet et al. 2021 (`colour.io.read_spectral_image_Fichet2021`, over OpenImageIO) must
-read it as an emissive, unpolarised spectral image with the bin centres as its wavelengths, and
+quasar renders the shipped Cornell box with 94 bins of 5 nm, which it writes to
+`<stem>.spectral.exr` beside the image; colour-science's reader of the layout of Fichet et al. 2021
+(`colour.io.read_spectral_image_Fichet2021`, over OpenImageIO) must read that file as an emissive, unpolarised spectral image with the bin centres as its wavelengths, and
 the luminance computed from its spectra with colour-science's own CIE 1931 2-degree table,
 Y = sum_b L_b ybar(lambda_b) d / integral(ybar), must equal quasar's `XYZ.Y` to 0.2% over the
-image (5 nm bins leave about 0.01%). Exit status 1 on a failure.
+image (5 nm bins leave about 0.01%), and its `XYZ.Y` must be the image's own. Exit status 1 on a
+failure.
 
     python3 tests/crosscheck/spectral_exr.py --quasar target/release/quasar --out /tmp/xc
 """
@@ -39,7 +40,8 @@ def main():
          "--height", "32", "--spp", "64", "--spectral-bins", str(BINS), "--quiet"],
         check=True,
     )
-    components, spec = read_spectral_image_Fichet2021(exr, additional_data=True)
+    spectral_exr = os.path.join(args.out, "cornell-spectral.spectral.exr")
+    components, spec = read_spectral_image_Fichet2021(spectral_exr, additional_data=True)
     failures = []
     if not spec.is_emissive or spec.is_polarised:
         failures.append(f"read as emissive={spec.is_emissive}, polarised={spec.is_polarised}")
@@ -53,6 +55,9 @@ def main():
     ybar = np.interp(wavelengths, cmfs.wavelengths, cmfs.values[:, 1])
     y_spectral = (image * ybar).sum(axis=-1) * d / np.trapezoid(cmfs.values[:, 1], cmfs.wavelengths)
     y_film = np.asarray(OpenEXR.File(exr).channels()["XYZ.Y"].pixels, float)
+    y_beside = np.asarray(OpenEXR.File(spectral_exr).channels()["XYZ.Y"].pixels, float)
+    if not np.array_equal(y_film, y_beside):
+        failures.append("XYZ.Y of the spectral file differs from the image's")
     ratio = y_spectral.mean() / y_film.mean()
     print(f"spectral EXR: {len(wavelengths)} bins read by colour-science {colour.__version__}; "
           f"mean Y from the spectra {y_spectral.mean():.6f}, XYZ.Y {y_film.mean():.6f}, ratio {ratio:.6f}")
