@@ -99,7 +99,7 @@ fn quasi_reference(scene_path: &str, w: u32, h: u32, iterations: u32, radius: f3
     .with_param("iterations", iterations)
     .with_param("photons_per_iteration", (w * h * 16) as u64)
     .with_param("radius", radius);
-    let y = render_desc(&desc, &ov, false).unwrap().image.channel("XYZ.Y").unwrap().to_vec();
+    let y = render_desc(&desc, &ov, false).unwrap().image.channel(quasar::film::LUMINANCE).unwrap().to_vec();
     println!(
         "{scene_path}: reference quasi {w}x{h} {iterations} iterations, radius {radius} in {:.1} s",
         t.elapsed().as_secs_f64()

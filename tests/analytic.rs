@@ -39,7 +39,7 @@ scale = {le}
     );
     let out = render_file(&scene.path, &JobOverrides { spp: Some(256), seed: Some(1), ..Default::default() });
     let img = &out.image;
-    let y = img.channel("XYZ.Y").unwrap();
+    let y = img.channel(quasar::film::LUMINANCE).unwrap();
     let depth = img.channel("depth.Z").unwrap();
     let emission = img.channel("emission.G").unwrap();
     // centre pixels: well inside the silhouette (sphere of radius 1 at distance 4 spans ~8 px of 24)
@@ -115,7 +115,10 @@ material = "floor"
         &[],
     );
     let out = render_file(&scene.path, &JobOverrides { spp: Some(spp), seed: Some(2), ..Default::default() });
-    (common::mean(&common::layer_luminance(&out.image, "direct")), common::mean(out.image.channel("XYZ.Y").unwrap()))
+    (
+        common::mean(&common::layer_luminance(&out.image, "direct")),
+        common::mean(out.image.channel(quasar::film::LUMINANCE).unwrap()),
+    )
 }
 
 /// Known irradiance from delta lights: a point light of intensity I at height h above a
@@ -219,7 +222,7 @@ scale = 1
     let want = r + (1.0 - r) * t * t;
     for ov in [common::pt_ov(16, 16, 512, 3), common::bidir_ov(16, 16, "quasi", 128, 4096, 3)] {
         let out = render_file(&scene.path, &ov);
-        let y = out.image.channel("XYZ.Y").unwrap();
+        let y = out.image.channel(quasar::film::LUMINANCE).unwrap();
         let got = common::mean(y);
         assert!((got / want - 1.0).abs() < 0.01, "{:?}: mean Y {got}, closed form {want}", ov.method);
     }

@@ -291,7 +291,7 @@ fn gltf_paths_outside_the_folder_need_the_flag_and_warnings_are_printed() {
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{stderr}");
     assert!(stderr.contains("warning: ") && stderr.contains("KHR_materials_clearcoat"), "{stderr}");
-    assert!(quasar::output::read_exr(&out).unwrap().channel("XYZ.Y").unwrap().iter().any(|&y| y > 0.0));
+    assert!(quasar::output::read_exr(&out).unwrap().channel(quasar::film::LUMINANCE).unwrap().iter().any(|&y| y > 0.0));
     // --units scales the scene: info reports the bounding sphere in metres
     let info = |units: &str| {
         let o = quasar().args(["info", "--allow-external-paths", "--units", units]).arg(&scene).output().unwrap();
@@ -601,7 +601,8 @@ fn black_renders_are_reported() {
         let (status, stderr) = render_cli(&s.path, &out, args);
         assert!(status.success() && stderr.contains(needle), "{stderr}");
         assert!(stderr.contains(&s.path.display().to_string()), "{stderr}");
-        let lit = quasar::output::read_exr(&out).unwrap().channel("XYZ.Y").unwrap().iter().any(|&y| y > 0.0);
+        let lit =
+            quasar::output::read_exr(&out).unwrap().channel(quasar::film::LUMINANCE).unwrap().iter().any(|&y| y > 0.0);
         assert_eq!(lit, args.is_empty() && text == no_light, "{needle}");
     }
     // `--default-light env` lights a scene that has a light of its own too (issue 52: it did
@@ -611,7 +612,7 @@ fn black_renders_are_reported() {
     let (status, stderr) = render_cli(&s.path, &out, ["--default-light", "env"]);
     assert!(status.success() && stderr.contains("--default-light env adds"), "{stderr}");
     assert!(!stderr.contains("the image is black"), "{stderr}");
-    assert!(quasar::output::read_exr(&out).unwrap().channel("XYZ.Y").unwrap().iter().any(|&y| y > 0.0));
+    assert!(quasar::output::read_exr(&out).unwrap().channel(quasar::film::LUMINANCE).unwrap().iter().any(|&y| y > 0.0));
     let s = write_scene(GOOD, &[]);
     let (_, stderr) = render_cli(&s.path, &s.dir.path().join("lit.exr"), [] as [&str; 0]);
     assert!(!stderr.contains("black") && !stderr.contains("sees none"), "{stderr}");

@@ -23,5 +23,5 @@ fn the_scene_format_example_is_shipped_and_renders() {
         .unwrap();
     assert!(o.status.success() && o.stderr.is_empty(), "{}", String::from_utf8_lossy(&o.stderr));
     let img = quasar::output::read_exr(&out).unwrap();
-    assert!(img.channel("XYZ.Y").unwrap().iter().any(|&y| y > 0.0));
+    assert!(img.channel(quasar::film::LUMINANCE).unwrap().iter().any(|&y| y > 0.0));
 }

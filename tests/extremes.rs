@@ -43,7 +43,7 @@ fn assert_finite(img: &ExrImage, what: &str) {
             continue;
         }
         assert!(c.values.iter().all(|v| v.is_finite()), "{what}: {} has a non-finite value", c.name);
-        if c.name == "XYZ.Y" {
+        if c.name == quasar::film::LUMINANCE {
             assert!(c.values.iter().all(|v| *v >= 0.0), "{what}: negative luminance");
         }
     }
@@ -151,7 +151,7 @@ fn nearly_smooth_rough_conductor_converges_to_the_mirror() {
             method: Some("pt".into()),
             ..Default::default()
         };
-        render_file(&s.path, &ov).image.channel("XYZ.Y").unwrap().to_vec()
+        render_file(&s.path, &ov).image.channel(quasar::film::LUMINANCE).unwrap().to_vec()
     };
     let mirror = render("alpha = 0");
     for alpha in ["alpha = 1e-4", "alpha = 2e-3"] {
@@ -175,7 +175,8 @@ fn scene_scale_from_1e_minus_4_to_1e5_metres_gives_the_same_image() {
             "scale",
         );
         for ((name, a), (_, r)) in imgs.iter().zip(&reference) {
-            let (ma, mr) = (mean(a.channel("XYZ.Y").unwrap()), mean(r.channel("XYZ.Y").unwrap()));
+            let (ma, mr) =
+                (mean(a.channel(quasar::film::LUMINANCE).unwrap()), mean(r.channel(quasar::film::LUMINANCE).unwrap()));
             eprintln!("scale {scale:e} {name}: mean {ma:.5} vs {mr:.5}");
             assert!((ma - mr).abs() < 0.05 * mr, "scale {scale:e}, {name}: mean {ma} vs {mr} at 1 m");
         }
@@ -195,7 +196,10 @@ fn huge_and_tiny_radiance_scale_the_image_linearly() {
     for k in [2f64.powi(-66), 2f64.powi(66)] {
         let imgs = render_every_method(&test_scene(sphere, 1.0, k, WHITE), 12, 10, "radiance");
         for ((name, a), (_, u)) in imgs.iter().zip(&unit) {
-            let (ma, mu) = (mean(a.channel("XYZ.Y").unwrap()) / k, mean(u.channel("XYZ.Y").unwrap()));
+            let (ma, mu) = (
+                mean(a.channel(quasar::film::LUMINANCE).unwrap()) / k,
+                mean(u.channel(quasar::film::LUMINANCE).unwrap()),
+            );
             assert!(mu > 0.0);
             assert!((ma - mu).abs() < 1e-4 * mu, "radiance {k:e}, {name}: {ma} vs {mu}");
         }
@@ -241,7 +245,7 @@ emission = {{ spectrum = {spike}, scale = 1 }}
     assert_finite(&img, "spike seen directly");
     // integral of the triangle = 1e4 * 0.1 nm = 1000; ybar(550 nm) = 0.99495; integral ybar = 106.857
     let expected = 1000.0 * 0.994_950 / 106.856_895;
-    let y = mean(img.channel("XYZ.Y").unwrap());
+    let y = mean(img.channel(quasar::film::LUMINANCE).unwrap());
     eprintln!("spike: Y {y} expected {expected}");
     assert!((y - expected).abs() < 0.1 * expected, "spike luminance {y}, expected {expected}");
 }
@@ -328,7 +332,7 @@ position = [-0.8, 0.6, 0]
 scale = 100
 "#;
     for (name, img) in render_every_method(scene, 16, 12, "lights inside") {
-        let y = img.channel("XYZ.Y").unwrap();
+        let y = img.channel(quasar::film::LUMINANCE).unwrap();
         assert!(y.iter().all(|&v| v == 0.0), "{name}: light leaked, max {}", y.iter().cloned().fold(0.0, f32::max));
     }
 }
@@ -376,16 +380,16 @@ emission = { spectrum = { constant = 1 }, scale = 5 }
         method: Some("pt".into()),
         ..Default::default()
     };
-    let r = mean(render_file(&s.path, &pt).image.channel("XYZ.Y").unwrap());
+    let r = mean(render_file(&s.path, &pt).image.channel(quasar::film::LUMINANCE).unwrap());
     assert!(r > 0.0);
     for (name, img) in render_every_method(scene, 12, 10, "camera inside glass") {
-        let m = mean(img.channel("XYZ.Y").unwrap());
+        let m = mean(img.channel(quasar::film::LUMINANCE).unwrap());
         eprintln!("camera inside glass, {name}: mean {m:.5} vs pt {r:.5}");
         assert!(m > 0.0, "{name}: black");
         if name != "pt" {
             let ov = every_method(12, 10, 1).into_iter().find(|(n, _)| *n == name).unwrap().1;
             let ov = ov.with_param("iterations", 128u32).with_param("photons_per_iteration", 20_000u32);
-            let m = mean(render_file(&s.path, &ov).image.channel("XYZ.Y").unwrap());
+            let m = mean(render_file(&s.path, &ov).image.channel(quasar::film::LUMINANCE).unwrap());
             assert!((m - r).abs() < 0.1 * r, "{name}: mean {m} vs pt {r}");
         }
     }

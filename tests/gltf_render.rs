@@ -70,7 +70,7 @@ fn glb_and_gltf_render_identically() {
     std::fs::write(&b, w.to_glb()).unwrap();
     let ov = overrides(12, 4);
     let (ia, ib) = (render(&a, &ov), render(&b, &ov));
-    let (ya, yb) = (ia.channel("XYZ.Y").unwrap(), ib.channel("XYZ.Y").unwrap());
+    let (ya, yb) = (ia.channel(quasar::film::LUMINANCE).unwrap(), ib.channel(quasar::film::LUMINANCE).unwrap());
     assert!(ya.iter().any(|&v| v > 0.0), "the floor is lit");
     assert_eq!(ya, yb, "bit-identical");
 }
@@ -81,7 +81,7 @@ fn one_candela_gives_the_photometric_luminance() {
     let p = dir.path().join("cd.glb");
     std::fs::write(&p, floor_scene(1.0, 0.5, None).to_glb()).unwrap();
     let img = render(&p, &overrides(8, 4));
-    let y = common::mean(img.channel("XYZ.Y").unwrap());
+    let y = common::mean(img.channel(quasar::film::LUMINANCE).unwrap());
     // 1 cd at 1 m: 1 lx on a white Lambertian floor -> 1/pi cd/m^2
     let lv = y * f64::from(LUMINANCE_PER_Y);
     let want = 1.0 / std::f64::consts::PI;
@@ -170,7 +170,8 @@ fn vertex_colours_multiply_the_base_colour() {
     let white = render(&coloured_floor([[1.0; 3]; 4]).1, &overrides(8, 4));
     let grey = render(&coloured_floor([[0.5; 3]; 4]).1, &overrides(8, 4));
     // direct light only, the same paths: grey vertex colours halve the image
-    let ratio = common::mean(grey.channel("XYZ.Y").unwrap()) / common::mean(white.channel("XYZ.Y").unwrap());
+    let ratio = common::mean(grey.channel(quasar::film::LUMINANCE).unwrap())
+        / common::mean(white.channel(quasar::film::LUMINANCE).unwrap());
     assert!((ratio - 0.5).abs() < 0.01, "grey 0.5 vertex colours: {ratio} of the white floor");
     // red towards -x, blue towards +x, interpolated across the floor
     let (_dir, path) = coloured_floor([[1.0, 0.1, 0.1], [0.1, 0.1, 1.0], [0.1, 0.1, 1.0], [1.0, 0.1, 0.1]]);

@@ -128,7 +128,7 @@ fn check_scene(toml: &str, files: &[(&str, &str)], web_file: &str, roll_deg: f32
     let file = web_file;
     let ov = JobOverrides { spp: Some(1024), method: Some("pt".into()), threads: Some(2), ..Default::default() };
     let img = common::render_file(&s.path, &ov).image;
-    let (y, se) = (img.channel("XYZ.Y").unwrap(), img.channel("stderr.Y").unwrap());
+    let (y, se) = (img.channel(quasar::film::LUMINANCE).unwrap(), img.channel("stderr.Y").unwrap());
     // the luminance layer is the cd/m^2 the closed form gives
     let lum = img.channel("luminance.Y").unwrap();
     let (web, _) = read_photometric_file(&s.dir.path().join(file)).unwrap();
@@ -168,7 +168,7 @@ fn rolled_luminaire_turns_its_distribution() {
     let img = common::render_file(&s.path, &ov).image;
     let desc = quasar::render::job::load_scene(&s.path).unwrap();
     let camera = Camera::new(&desc.camera, 12, 12).unwrap();
-    let y = img.channel("XYZ.Y").unwrap();
+    let y = img.channel(quasar::film::LUMINANCE).unwrap();
     let (web, _) = read_photometric_file(&s.dir.path().join("lamp.ies")).unwrap();
     let off = (0..144)
         .map(|i| {

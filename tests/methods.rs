@@ -70,12 +70,12 @@ fn check_methods_on(
     methods: &[(&str, Option<f32>, Budget)],
     gathered_layers: &[quasar::film::Quantity],
 ) {
-    let r = reference.image.channel("XYZ.Y").unwrap();
+    let r = reference.image.channel(quasar::film::LUMINANCE).unwrap();
     for &(method, cone, budget) in methods {
         let few = render_file(path, &method_ov(w, h, method, cone, 16)).image;
-        let e_few = mean_rel_error(few.channel("XYZ.Y").unwrap(), r);
+        let e_few = mean_rel_error(few.channel(quasar::film::LUMINANCE).unwrap(), r);
         let img = render_file(path, &method_ov(w, h, method, cone, budget.iterations));
-        let y = img.image.channel("XYZ.Y").unwrap();
+        let y = img.image.channel(quasar::film::LUMINANCE).unwrap();
         let e = mean_rel_error(y, r);
         eprintln!("{}: {method} cone {cone:?}: mean relative error {e_few:.5} -> {e:.5}", path.display());
         assert!(y.iter().all(|v| v.is_finite()));

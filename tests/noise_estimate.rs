@@ -33,10 +33,10 @@ fn ov(spp: Option<u32>, target: Option<f64>, seed: u64) -> JobOverrides {
 #[test]
 fn stderr_predicts_the_actual_error() {
     let reference = render_file(&cornell(), &ov(Some(8192), None, 1)).image;
-    let r = reference.channel("XYZ.Y").unwrap();
+    let r = reference.channel(quasar::film::LUMINANCE).unwrap();
     let spp = 256;
     let img = render_file(&cornell(), &ov(Some(spp), None, 2));
-    let actual = rel_mse(img.image.channel("XYZ.Y").unwrap(), r).sqrt();
+    let actual = rel_mse(img.image.channel(quasar::film::LUMINANCE).unwrap(), r).sqrt();
     let estimated = img.result.film.estimated_rel_error();
     eprintln!("{spp} spp: estimated {estimated:.4}, actual {actual:.4}");
     assert!((estimated / actual - 1.0).abs() < 0.25, "{spp} spp: estimated {estimated}, actual {actual}");
@@ -55,10 +55,10 @@ fn stderr_predicts_the_actual_error() {
 fn target_error_stops_the_render() {
     let at_64 = |o: JobOverrides| JobOverrides { width: Some(64), height: Some(64), ..o };
     let reference = render_file(&cornell(), &at_64(ov(Some(8192), None, 1))).image;
-    let r = reference.channel("XYZ.Y").unwrap();
+    let r = reference.channel(quasar::film::LUMINANCE).unwrap();
     let img = render_file(&cornell(), &at_64(ov(None, Some(0.05), 3)));
     let est = img.result.film.estimated_rel_error();
-    let actual = rel_mse(img.image.channel("XYZ.Y").unwrap(), r).sqrt();
+    let actual = rel_mse(img.image.channel(quasar::film::LUMINANCE).unwrap(), r).sqrt();
     eprintln!("pt: {} spp, estimated {est:.4}, actual {actual:.4}", img.result.spp);
     assert!(est <= 0.05);
     assert!(actual < 0.06, "actual error {actual}");

@@ -58,10 +58,30 @@ fn assert_close(merged: &ExrImage, full: &ExrImage, what: &str) {
     }
 }
 
+/// Every method's shards merge into its full render, channel by channel by the rule of the
+/// output table. The tables cover what is written: each channel has its row of the output table
+/// and each header entry its row of the header table, every row of the output table is written
+/// by some method, and `quasar compare` measures exactly the channels of the rows marked
+/// `compared`.
 #[test]
 fn four_shards_merge_into_the_full_render() {
+    use quasar::film::outputs::{OUTPUTS, group_of};
+    let mut rows_written = vec![false; OUTPUTS.len()];
     for method in quasar::integrator::method::METHODS.iter().map(|m| m.name) {
         let full = render_file(&scene(), &ov(method, None)).image;
+        for c in &full.channels {
+            let row = group_of(&c.name).unwrap_or_else(|| panic!("{method}: {} has no row in OUTPUTS", c.name));
+            rows_written[OUTPUTS.iter().position(|r| r == row).unwrap()] = true;
+        }
+        for (k, _) in &full.metadata {
+            assert!(quasar::render::header::header_key(k).is_some(), "{method}: header entry {k} has no row in HEADER");
+        }
+        let measured: Vec<String> =
+            quasar::tools::compare::compare(&full, &full, None).unwrap().into_iter().map(|e| e.layer).collect();
+        for row in OUTPUTS.iter().filter(|r| full.channels.iter().any(|c| r.holds(&c.name))) {
+            let layer = if row.layer.is_empty() { "beauty" } else { row.layer };
+            assert_eq!(measured.iter().any(|l| l == layer), row.compared, "{method}: compare and the row of {layer}");
+        }
         let shards: Vec<ExrImage> = (0..4).map(|k| render_file(&scene(), &ov(method, Some((k, 4)))).image).collect();
         for s in &shards {
             assert_eq!((s.meta("spp"), s.meta("illuminance_samples")), (Some("2"), Some("2")), "{method}");
@@ -71,6 +91,13 @@ fn four_shards_merge_into_the_full_render() {
         assert_eq!(merged.meta("merged_from"), Some("4"));
         assert_eq!(merged.meta("illuminance_samples"), Some("8"));
         assert_close(&merged, &full, method);
+        // header entries by the header table: summed, recomputed from the merged channels
+        assert_eq!(merged.meta("rejected_samples"), full.meta("rejected_samples"), "{method}");
+        let error = |img: &ExrImage| img.meta("estimated_rel_error").unwrap().parse::<f64>().unwrap();
+        assert!((error(&merged) / error(&full) - 1.0).abs() < 1e-3, "{method}: {} vs {}", error(&merged), error(&full));
+    }
+    for (row, written) in OUTPUTS.iter().zip(rows_written) {
+        assert!(written, "no method wrote {}", row.pattern());
     }
 }
 

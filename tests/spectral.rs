@@ -109,7 +109,7 @@ fn spectral_bins_hold_the_samples_of_the_films_y_for_per_pixel_and_bidirectional
     for (label, ov) in [("pt", pt_ov(8, 8, 256, 3)), ("vismap", bidir_ov(8, 8, "vismap", 1024, 64, 3))] {
         let img = common::render_file(&scene.path, &spectral_ov(ov, bins)).image;
         let from_bins = y_from_bins(&img, &bins);
-        let film = img.channel("XYZ.Y").unwrap();
+        let film = img.channel(quasar::film::LUMINANCE).unwrap();
         let m = mean(film);
         assert!(m > 0.1, "{label}: Y {m}");
         let mut worst = 0.0f64;
@@ -143,7 +143,7 @@ fn the_written_file_has_the_spectral_layout_attributes_and_channels() {
     let main = quasar::output::read_exr(&image).unwrap();
     assert!(!main.channels.iter().any(|c| SpectralBins::is_channel(&c.name)));
     assert_eq!(main.meta("spectral_file"), Some("image.spectral.exr"));
-    assert!(main.channel("XYZ.Y").is_some() && main.channel("indirect.R").is_some());
+    assert!(main.channel(quasar::film::LUMINANCE).is_some() && main.channel("indirect.R").is_some());
     use exr::prelude::{AttributeValue, ReadChannels, ReadLayers, Text};
     let raw = exr::prelude::read()
         .no_deep_data()

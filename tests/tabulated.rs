@@ -35,7 +35,7 @@ fn ov(method: &str, seed: u64, spp: u32) -> JobOverrides {
 
 fn y(path: &Path, o: &JobOverrides) -> Vec<f32> {
     let img = render_file(path, o).image;
-    let y = img.channel("XYZ.Y").unwrap().to_vec();
+    let y = img.channel(quasar::film::LUMINANCE).unwrap().to_vec();
     assert!(y.iter().all(|v| v.is_finite()));
     y
 }
@@ -142,6 +142,6 @@ fn every_library_material_loads_and_the_preview_scene_renders() {
         ..Default::default()
     };
     let img = render_file(&scene, &o).image;
-    let y = img.channel("XYZ.Y").unwrap();
+    let y = img.channel(quasar::film::LUMINANCE).unwrap();
     assert!(y.iter().all(|v| v.is_finite()) && mean(y) > 0.0);
 }

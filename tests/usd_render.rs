@@ -71,7 +71,7 @@ fn one_candela_usd_point_light_gives_the_photometric_luminance() {
         ..Default::default()
     };
     let img = render_desc(&desc, &ov, false).unwrap_or_else(|e| panic!("{e:#}")).image;
-    let lv = common::mean(img.channel("XYZ.Y").unwrap()) * f64::from(LUMINANCE_PER_Y);
+    let lv = common::mean(img.channel(quasar::film::LUMINANCE).unwrap()) * f64::from(LUMINANCE_PER_Y);
     let want = 1.0 / std::f64::consts::PI;
     assert!((lv / want - 1.0).abs() < 0.02, "luminance {lv} cd/m^2, expected {want}");
 }
@@ -253,7 +253,7 @@ def Xform "World"
             std::fs::write(&p, stage(dome, cam)).unwrap();
             let desc = quasar_importers::import_scene(&p, &ImportOptions::default()).unwrap_or_else(|e| panic!("{e}"));
             let img = render_desc(&desc, &common::pt_ov(8, 8, 4, 1), false).unwrap().image;
-            common::mean(img.channel("XYZ.Y").unwrap())
+            common::mean(img.channel(quasar::film::LUMINANCE).unwrap())
         };
         let (bright, dark) = (mean(bright_cam), mean(dark_cam));
         assert!(bright > 20.0 * dark, "dome {dome}: bright side {bright}, dark side {dark}");

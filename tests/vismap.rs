@@ -29,10 +29,13 @@ fn check_convergence(
     beauty_base: usize,
     gathered_base: usize,
 ) {
-    let r = reference.image.channel("XYZ.Y").unwrap();
+    let r = reference.image.channel(quasar::film::LUMINANCE).unwrap();
     let few = render_file(path, &vismap_ov(w, h, 16, depth)).image;
     let img = render_file(path, &vismap_ov(w, h, many, depth));
-    let (e_few, e_many) = (rel_mse(few.channel("XYZ.Y").unwrap(), r), rel_mse(img.image.channel("XYZ.Y").unwrap(), r));
+    let (e_few, e_many) = (
+        rel_mse(few.channel(quasar::film::LUMINANCE).unwrap(), r),
+        rel_mse(img.image.channel(quasar::film::LUMINANCE).unwrap(), r),
+    );
     eprintln!("{} depth {depth}: relMSE 16 it {e_few:.5}, {many} it {e_many:.5}", path.display());
     assert!(e_many < e_few, "depth {depth}: relMSE {e_few} -> {e_many}");
     let label = format!("{} depth {depth}", path.display());
@@ -273,5 +276,8 @@ emission = { spectrum = { constant = 1 }, scale = 4.0 }
     );
     let (reference, _) = pt_and_vismap(&scene, 8192, 100_000, 16, "caustic");
     let rc = mean(&layer_luminance(&reference.image, "caustic"));
-    assert!(rc > 0.02 * mean(reference.image.channel("XYZ.Y").unwrap()), "the scene has a visible caustic ({rc})");
+    assert!(
+        rc > 0.02 * mean(reference.image.channel(quasar::film::LUMINANCE).unwrap()),
+        "the scene has a visible caustic ({rc})"
+    );
 }

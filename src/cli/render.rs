@@ -317,11 +317,13 @@ pub fn render(args: RenderArgs) -> Result<ExitCode> {
     let false_colour_map = match false_colour.as_deref() {
         Some(q) => {
             let (layer, title) = if q == "luminance" {
-                ("luminance.Y", "luminance (cd/m²)")
+                (quasar::film::outputs::LUMINANCE_CD, "luminance (cd/m²)")
             } else {
-                ("illuminance.Y", "illuminance (lx)")
+                (quasar::film::outputs::ILLUMINANCE_LX, "illuminance (lx)")
             };
-            if layer == "illuminance.Y" && ov.illuminance_samples.unwrap_or(desc.render.illuminance_samples) == 0 {
+            if layer == quasar::film::outputs::ILLUMINANCE_LX
+                && ov.illuminance_samples.unwrap_or(desc.render.illuminance_samples) == 0
+            {
                 anyhow::bail!("--false-colour illuminance needs the illuminance.Y layer: give --illuminance-samples N");
             }
             let scale = false_colour_scale.unwrap_or(ColourScale::Log);

@@ -42,6 +42,13 @@ impl PathClass {
 }
 
 impl LayeredRadiance {
+    /// The layers in the order of [`super::LAYER_NAMES`] (an array of `N_LAYERS`: a layer name
+    /// without its field here does not compile).
+    #[inline(always)]
+    pub fn layers(&self) -> [SampledSpectrum; super::N_LAYERS] {
+        [self.emission, self.direct, self.indirect, self.caustic]
+    }
+
     /// Adds emission `l` reached by a path of class `c` (the light is the next vertex).
     #[inline]
     pub fn add(&mut self, c: PathClass, l: SampledSpectrum) {

@@ -3,11 +3,13 @@
 
 mod blocks;
 mod layers;
+pub mod outputs;
 mod scratch;
 mod spectral;
 
 pub use blocks::{BLOCK_BASE, BlockBatches, BlockLevel, block_sizes};
 pub use layers::{LayeredRadiance, PathClass};
+pub use outputs::{ChannelSet, DEPTH, LUMINANCE, SAMPLES, STDERR};
 pub use spectral::{MAX_SPECTRAL_BINS, SpectralBins, SpectralSums};
 
 use glam::Vec3A;
@@ -77,9 +79,6 @@ impl Quantity {
     }
 }
 
-/// The channel of the beauty's luminance Y (CIE 1931, the sensor of docs/architecture.md §3).
-pub const LUMINANCE: &str = "XYZ.Y";
-
 /// Sum of XYZ per layer for one pixel, in f64 so long renders do not lose precision.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PixelSum {
@@ -104,9 +103,9 @@ impl PixelSum {
     pub fn add(&mut self, l: &LayeredRadiance, wl: &SampledWavelengths) -> [f64; N_QUANTITIES] {
         let w = wl.xyz_weights();
         let xyz = |s: SampledSpectrum| if s.is_black() { Vec3A::ZERO } else { w.apply_vec(s) };
-        let layers = [xyz(l.emission), xyz(l.direct), xyz(l.indirect), xyz(l.caustic)];
+        let layers = l.layers().map(xyz);
         self.samples += 1;
-        if !(layers[0] + layers[1] + layers[2] + layers[3]).is_finite() {
+        if !layers.iter().fold(Vec3A::ZERO, |a, &v| a + v).is_finite() {
             // a sum of finite values can overflow to infinity: check each before rejecting
             if layers.iter().any(|v| !v.is_finite()) {
                 self.rejected += 1;
@@ -342,23 +341,24 @@ impl Film {
                 xyz_out[k][i] = sum_xyz[k];
             }
         }
+        // the names from the output table (film/outputs.rs): beauty "", XYZ, then each layer
+        let names = |layer: &str, set: ChannelSet| {
+            set.names().iter().map(|c| outputs::channel_name(layer, c)).collect::<Vec<_>>()
+        };
         let mut out = Vec::new();
-        for (k, c) in ["R", "G", "B"].iter().enumerate() {
-            out.push(Channel { name: c.to_string(), values: std::mem::take(&mut beauty[k]) });
+        for (name, values) in names("", ChannelSet::Rgb).into_iter().zip(beauty) {
+            out.push(Channel { name, values });
         }
-        for (k, values) in xyz_out.into_iter().enumerate() {
-            out.push(Channel { name: format!("XYZ.{}", ["X", "Y", "Z"][k]), values });
+        for (name, values) in names("XYZ", ChannelSet::Xyz).into_iter().zip(xyz_out) {
+            out.push(Channel { name, values });
         }
         for (l, layer) in layers.into_iter().enumerate() {
-            for (k, values) in layer.into_iter().enumerate() {
-                out.push(Channel { name: format!("{}.{}", LAYER_NAMES[l], ["R", "G", "B"][k]), values });
+            for (name, values) in names(LAYER_NAMES[l], ChannelSet::Rgb).into_iter().zip(layer) {
+                out.push(Channel { name, values });
             }
         }
-        out.push(Channel { name: "spp.Y".into(), values: self.pixels.iter().map(|p| p.samples as f32).collect() });
-        out.push(Channel {
-            name: "stderr.Y".into(),
-            values: self.pixels.iter().map(|p| p.stderr_y() as f32).collect(),
-        });
+        out.push(Channel { name: SAMPLES.into(), values: self.pixels.iter().map(|p| p.samples as f32).collect() });
+        out.push(Channel { name: STDERR.into(), values: self.pixels.iter().map(|p| p.stderr_y() as f32).collect() });
         if let Some(b) = &self.blocks {
             out.extend(b.channels(self.width as usize, self.height as usize));
         }
@@ -416,5 +416,26 @@ mod tests {
         let y = 2.0 * unit as f64;
         let expected = (unit as f64 * unit as f64 / (y * y + REL_EPS)).sqrt();
         assert!((film.estimated_rel_error() - expected).abs() < 1e-6);
+    }
+
+    /// The output table and the film agree: every channel the film writes has its row, and
+    /// every row the film produces in every render is written (the radiance layers included).
+    #[test]
+    fn the_film_writes_its_rows_of_the_output_table() {
+        let film = Film::with_block_batches(3, 2).with_spectral(SpectralBins::new(4, 400.0, 700.0).unwrap());
+        let written: Vec<String> = film.channels().into_iter().map(|c| c.name).collect();
+        for name in &written {
+            let row = outputs::group_of(name).unwrap_or_else(|| panic!("{name} has no row in OUTPUTS"));
+            assert_eq!(row.producer, outputs::Producer::Film, "{name}");
+        }
+        for row in outputs::OUTPUTS.iter().filter(|r| r.producer == outputs::Producer::Film) {
+            assert!(written.iter().any(|n| row.holds(n)), "the film writes no channel of {}", row.pattern());
+            for name in row.channel_names() {
+                assert!(written.contains(&name), "the film does not write {name}");
+            }
+        }
+        for layer in LAYER_NAMES {
+            assert!(outputs::OUTPUTS.iter().any(|r| r.layer == layer), "layer {layer} has no row");
+        }
     }
 }

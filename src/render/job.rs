@@ -11,20 +11,12 @@ use super::driver::{self, DriverOptions, RenderResult};
 use crate::core::camera::Camera;
 use crate::core::isa::Isa;
 use crate::core::scene::Scene;
-use crate::film::{Channel, SpectralBins};
+use crate::film::outputs::{DEPTH, ILLUMINANCE_LX, ILLUMINANCE_SAMPLES, ILLUMINANCE_STDERR_LX, LUMINANCE_CD};
+use crate::film::{Channel, LUMINANCE, SpectralBins};
 use crate::integrator::method::{Build, Built, MethodChoice, all_params, instantiate};
 use crate::integrator::params::MethodParams;
 use crate::output::preview::{Exposure, View, exposure_scale};
 use crate::output::{ExrImage, write_exr_atomic, write_preview_png};
-
-/// The channel of the photometric luminance in cd/m^2 (`LUMINANCE_PER_Y` x `XYZ.Y`).
-pub const LUMINANCE_CD: &str = "luminance.Y";
-
-/// The channel of the illuminance in lux at the first surface the pixel's camera rays hit.
-pub const ILLUMINANCE_LX: &str = "illuminance.Y";
-
-/// The channel of the standard error (lx) of [`ILLUMINANCE_LX`].
-pub const ILLUMINANCE_STDERR_LX: &str = "illuminance_stderr.Y";
 
 /// Settings that override the scene file's `[render]` table (None = keep the scene's).
 #[derive(Clone, Debug, Default)]
@@ -286,7 +278,7 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     }
     let mut channels = result.film.channels();
     // photometric luminance: 683 lm/W x integral of L ybar = LUMINANCE_PER_Y x Y (docs/photometry.md)
-    let luminance = channels.iter().find(|c| c.name == crate::film::LUMINANCE).map(|c| {
+    let luminance = channels.iter().find(|c| c.name == LUMINANCE).map(|c| {
         let values = c.values.iter().map(|&y| y * quasar_importers::photometric::LUMINANCE_PER_Y).collect();
         Channel { name: LUMINANCE_CD.into(), values }
     });
@@ -300,7 +292,7 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         channels.push(Channel { name: ILLUMINANCE_STDERR_LX.into(), values: stderr });
         illuminance_taken = Some(taken);
     }
-    channels.push(Channel { name: "depth.Z".into(), values: result.depth.clone() });
+    channels.push(Channel { name: DEPTH.into(), values: result.depth.clone() });
     channels.extend(result.extra.iter().cloned());
     let mut header = vec![
         ("software".into(), concat!("quasar ", env!("CARGO_PKG_VERSION")).to_string()),
@@ -332,7 +324,7 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         header.push(("iterations".into(), result.spp.to_string()));
     }
     if let Some(n) = illuminance_taken {
-        header.push(("illuminance_samples".into(), n.to_string()));
+        header.push((ILLUMINANCE_SAMPLES.into(), n.to_string()));
     }
     if let Some(b) = ov.spectral_bins {
         header.push(("spectral_bins".into(), spectral_description(&b)));
@@ -396,7 +388,7 @@ pub fn write_outputs_with_preview(
     if let Some(p) = preview {
         let img = &out.image;
         let get = |n: &str| img.channel(n).context("beauty channel missing");
-        let scale = exposure_scale(exposure, get("XYZ.Y")?);
+        let scale = exposure_scale(exposure, get(LUMINANCE)?);
         write_preview_png(p, img.width as u32, img.height as u32, [get("R")?, get("G")?, get("B")?], scale, view)
             .map_err(|e| anyhow::anyhow!(e))?;
     }

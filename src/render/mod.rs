@@ -4,6 +4,7 @@
 pub mod checkpoint;
 pub mod default_light;
 pub mod driver;
+pub mod header;
 pub mod interrupt;
 pub mod job;
 pub mod memory;

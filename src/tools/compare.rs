@@ -3,6 +3,7 @@
 
 use std::path::Path;
 
+use crate::film::LUMINANCE;
 use crate::output::ExrImage;
 
 /// Error metrics of one layer of an image against a reference.
@@ -56,10 +57,10 @@ pub fn compare(img: &ExrImage, reference: &ExrImage, only: Option<&str>) -> Resu
     let mut shared: Vec<&str> = Vec::new();
     for c in &img.channels {
         let l = layer_of(&c.name);
-        if matches!(l, "spp" | "depth" | "stderr" | "trace_depth")
-            || reference.channel(&c.name).is_none()
-            || shared.contains(&l)
-        {
+        // the output table says which channels are statistics of the render, not images of the
+        // scene; a channel it does not know (another renderer's) is compared
+        let statistic = crate::film::outputs::group_of(&c.name).is_some_and(|g| !g.compared);
+        if statistic || reference.channel(&c.name).is_none() || shared.contains(&l) {
             continue;
         }
         shared.push(l);
@@ -147,7 +148,7 @@ fn false_colour(rel: f64, full_scale: f64) -> [u8; 3] {
 /// Writes a PNG of the per-pixel relative difference of luminance `Y` (image - reference) /
 /// (reference + 1e-3), in false colour saturating at +-100%.
 pub fn write_difference_png(img: &ExrImage, reference: &ExrImage, path: &Path) -> Result<(), String> {
-    let (Some(a), Some(r)) = (img.channel("XYZ.Y"), reference.channel("XYZ.Y")) else {
+    let (Some(a), Some(r)) = (img.channel(LUMINANCE), reference.channel(LUMINANCE)) else {
         return Err("both images need an XYZ.Y channel for the difference image".into());
     };
     let mut buf = Vec::with_capacity(a.len() * 3);

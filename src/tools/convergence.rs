@@ -8,6 +8,7 @@ use std::path::Path;
 use anyhow::{Result, bail};
 use quasar_importers::SceneDesc;
 
+use crate::film::LUMINANCE;
 use crate::integrator::entry::MethodEntry;
 use crate::integrator::params::{MethodParams, ParamKind};
 use crate::output::text::Align;
@@ -91,7 +92,7 @@ pub fn pt_reference(
         method: Some("pt".into()),
         ..Default::default()
     };
-    Ok(render_desc(desc, &ov, progress)?.image.channel("XYZ.Y").unwrap_or_default().to_vec())
+    Ok(render_desc(desc, &ov, progress)?.image.channel(LUMINANCE).unwrap_or_default().to_vec())
 }
 
 /// One render of a curve.
@@ -132,7 +133,7 @@ pub fn run(
             }
             let ov = JobOverrides { time_s: Some(budget), method: Some(m.method.name.into()), params, ..base.clone() };
             let out = render_desc(desc, &ov, false)?;
-            let y = out.image.channel("XYZ.Y").unwrap_or_default();
+            let y = out.image.channel(LUMINANCE).unwrap_or_default();
             if y.len() != reference.len() {
                 bail!("the reference has {} pixels, the render {}", reference.len(), y.len());
             }
@@ -321,7 +322,10 @@ pub fn bench(desc: &SceneDesc, s: &BenchSettings, mut log: impl FnMut(&str)) -> 
     let (w, h, reference) = match &s.reference {
         Some(p) => {
             let img = crate::output::read_exr(p)?;
-            let y = img.channel("XYZ.Y").ok_or_else(|| anyhow::anyhow!("{}: no XYZ.Y channel", p.display()))?.to_vec();
+            let y = img
+                .channel(LUMINANCE)
+                .ok_or_else(|| anyhow::anyhow!("{}: no {LUMINANCE} channel", p.display()))?
+                .to_vec();
             (img.width as u32, img.height as u32, y)
         }
         None => {

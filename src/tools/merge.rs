@@ -1,29 +1,15 @@
 //! `quasar merge`: combines independent renders of one scene (shards of a render, or renders with
-//! different seeds) into one image, exactly as if their samples had been accumulated together:
-//! every mean channel is the per-pixel average weighted by the sample (iteration) counts of
-//! `spp.Y`, `spp.Y` is their sum, and `stderr.Y` is recomputed from the pooled sums of squares;
-//! the `illuminance.Y` layer and its `illuminance_stderr.Y` are pooled the same way over the
-//! `illuminance_samples` of each image.
+//! different seeds) into one image, exactly as if their samples had been accumulated together.
+//! Each channel is combined by the rule of its row of the output table
+//! ([`crate::film::outputs::OUTPUTS`]: a mean channel is the per-pixel average weighted by the
+//! sample counts of `spp.Y`, `spp.Y` their sum, a standard error recomputed from the pooled sums
+//! of squares, `illuminance.Y` pooled over each image's `illuminance_samples`), and each header
+//! entry by its row of the header table ([`crate::render::header::HEADER`]).
 
-use crate::film::Channel;
+use crate::film::outputs::{self, MergeRule};
+use crate::film::{Channel, LUMINANCE, REL_EPS, SAMPLES, STDERR};
 use crate::output::ExrImage;
-use crate::render::job::{ILLUMINANCE_LX, ILLUMINANCE_STDERR_LX};
-
-/// Header keys that must agree between the merged images (they change what a sample means).
-const MUST_AGREE: [&str; 12] = [
-    "scene_fingerprint",
-    "spectral_bins",
-    "method",
-    "width",
-    "height",
-    "masking",
-    "max_depth",
-    "photons_per_iteration",
-    "gather_depth",
-    "cone_deg",
-    "radius",
-    "alpha",
-];
+use crate::render::header::{HeaderMerge, header_key};
 
 /// The random streams an image's samples came from: (seed, K, N) for shard K of N (a full
 /// render is shard 0 of 1), from the `streams` list of a merged image or its `seed` and `shard`;
@@ -69,9 +55,6 @@ fn check_streams(images: &[ExrImage]) -> Result<Vec<(String, u32, u32)>, String>
     Ok(seen.into_iter().map(|(_, s)| s).collect())
 }
 
-/// Header keys summed over the inputs.
-const SUMMED: [&str; 5] = ["spp", "iterations", "photons", "render_time_s", "illuminance_samples"];
-
 /// Merges `images` (at least one). Errors name the first disagreement.
 pub fn merge(images: &[ExrImage]) -> Result<ExrImage, String> {
     let first = images.first().ok_or("nothing to merge")?;
@@ -80,17 +63,22 @@ pub fn merge(images: &[ExrImage]) -> Result<ExrImage, String> {
         if (img.width, img.height) != (first.width, first.height) {
             return Err(format!("image {i} is {}x{}, image 0 {}x{}", img.width, img.height, first.width, first.height));
         }
-        for key in MUST_AGREE {
-            if img.meta(key) != first.meta(key) {
+        for (key, value) in &img.metadata {
+            let agree = header_key(key).is_some_and(|h| h.merge == HeaderMerge::Agree);
+            if agree && first.meta(key) != Some(value) {
                 return Err(format!(
-                    "image {i} has {key} = {:?}, image 0 {:?}: renders of different settings do not merge",
-                    img.meta(key),
+                    "image {i} has {key} = {value:?}, image 0 {:?}: renders of different settings do not merge",
                     first.meta(key)
                 ));
             }
         }
-        if img.channel("spp.Y").is_none() || img.channel("XYZ.Y").is_none() {
-            return Err(format!("image {i} has no spp.Y or XYZ.Y channel (not a quasar render?)"));
+        for (key, _) in &first.metadata {
+            if header_key(key).is_some_and(|h| h.merge == HeaderMerge::Agree) && img.meta(key).is_none() {
+                return Err(format!("image {i} has no {key}, image 0 has: renders of different settings do not merge"));
+            }
+        }
+        if img.channel(SAMPLES).is_none() || img.channel(LUMINANCE).is_none() {
+            return Err(format!("image {i} has no {SAMPLES} or {LUMINANCE} channel (not a quasar render?)"));
         }
         for c in &first.channels {
             if img.channel(&c.name).is_none() {
@@ -99,47 +87,68 @@ pub fn merge(images: &[ExrImage]) -> Result<ExrImage, String> {
         }
     }
     let all_streams = check_streams(images)?;
-    let counts: Vec<&[f32]> = images.iter().map(|img| img.channel("spp.Y").unwrap_or_default()).collect();
+    let counts: Vec<&[f32]> = images.iter().map(|img| img.channel(SAMPLES).unwrap_or_default()).collect();
     let total: Vec<f64> = (0..n_px).map(|p| counts.iter().map(|c| c[p] as f64).sum()).collect();
     let spp_of = |k: usize, p: usize| counts[k][p] as f64;
-    // the illuminance layer's samples: the same count at every pixel of an image
-    let illuminance_n: Vec<f64> =
-        images.iter().map(|img| img.meta("illuminance_samples").and_then(|v| v.parse().ok()).unwrap_or(0.0)).collect();
-    let illuminance_of = |k: usize, _p: usize| illuminance_n[k];
-    // images written before the count was recorded: their layers are averaged by spp.Y
-    let illuminance_counted = images.iter().all(|img| img.meta("illuminance_samples").is_some());
+    // a count from the header: the same at every pixel of an image (None when an image lacks it)
+    let header_counts = |key: &str| -> Option<Vec<f64>> {
+        images.iter().map(|img| img.meta(key).and_then(|v| v.parse().ok())).collect()
+    };
     let mut channels = Vec::new();
     for c in &first.channels {
-        let values: Vec<f32> = match c.name.as_str() {
-            "spp.Y" => total.iter().map(|&t| t as f32).collect(),
-            "depth.Z" => c.values.clone(),
-            "stderr.Y" => pooled_stderr(images, &spp_of, "XYZ.Y", "stderr.Y"),
-            ILLUMINANCE_LX if illuminance_counted => pooled_mean(images, &illuminance_of, ILLUMINANCE_LX),
-            ILLUMINANCE_STDERR_LX => pooled_stderr(images, &illuminance_of, ILLUMINANCE_LX, ILLUMINANCE_STDERR_LX),
-            name => match name.strip_prefix("stderr.block").and_then(|s| s.parse::<usize>().ok()) {
-                Some(size) if size > 0 => pooled_block_stderr(images, &counts, name, size),
-                _ => pooled_mean(images, &spp_of, name),
+        let row = outputs::group_of(&c.name).ok_or_else(|| {
+            format!("channel {} is no output of this quasar (film/outputs.rs): it cannot be merged", c.name)
+        })?;
+        let values: Vec<f32> = match row.merge {
+            MergeRule::Sum => total.iter().map(|&t| t as f32).collect(),
+            MergeRule::First => c.values.clone(),
+            MergeRule::SampleMean => pooled_mean(images, &spp_of, &c.name),
+            MergeRule::PooledStderr { mean } => pooled_stderr(images, &spp_of, mean, &c.name),
+            MergeRule::PooledBlockStderr => {
+                let size = c.name.rsplit_once(".block").and_then(|(_, n)| n.parse::<usize>().ok()).unwrap_or(1);
+                pooled_block_stderr(images, &counts, &c.name, size)
+            }
+            MergeRule::HeaderCountMean { count } => match header_counts(count) {
+                Some(n) => pooled_mean(images, &|k, _| n[k], &c.name),
+                // images written before the count was recorded: averaged by spp.Y
+                None => pooled_mean(images, &spp_of, &c.name),
             },
+            MergeRule::HeaderCountStderr { mean, count } => {
+                let n = header_counts(count).unwrap_or_else(|| vec![0.0; images.len()]);
+                pooled_stderr(images, &|k, _| n[k], mean, &c.name)
+            }
         };
         channels.push(Channel { name: c.name.clone(), values });
     }
-    let mut metadata: Vec<(String, String)> = first.metadata.clone();
-    for (k, v) in metadata.iter_mut() {
-        if SUMMED.contains(&k.as_str()) {
-            let sum: f64 = images.iter().filter_map(|img| img.meta(k)?.parse::<f64>().ok()).sum();
-            *v = if k == "render_time_s" { format!("{sum:.3}") } else { format!("{sum}") };
-        } else if k == "partial" {
-            *v = images.iter().any(|img| img.meta("partial") == Some("true")).to_string();
-        } else if k == "shard" {
-            *v = "merged".into();
-        }
+    let mut metadata: Vec<(String, String)> = Vec::new();
+    for (k, v) in &first.metadata {
+        let rule = header_key(k).map_or(HeaderMerge::First, |h| h.merge);
+        let merged = match rule {
+            HeaderMerge::Sum => {
+                let sum: f64 = images.iter().filter_map(|img| img.meta(k)?.parse::<f64>().ok()).sum();
+                if k == "render_time_s" { format!("{sum:.3}") } else { format!("{sum}") }
+            }
+            HeaderMerge::AnyTrue => images.iter().any(|img| img.meta(k) == Some("true")).to_string(),
+            HeaderMerge::Merged => "merged".into(),
+            HeaderMerge::Recomputed => format!("{:.6}", estimated_rel_error(&channels)),
+            HeaderMerge::Dropped => continue,
+            HeaderMerge::Agree | HeaderMerge::First => v.clone(),
+        };
+        metadata.push((k.clone(), merged));
     }
-    // the shards' spectral files are merged on their own (one `quasar merge` of them)
-    metadata.retain(|(k, _)| k != "streams" && k != "spectral_file");
     let list: Vec<String> = all_streams.iter().map(|(seed, k, n)| format!("{seed}:{k}/{n}")).collect();
     metadata.push(("streams".into(), list.join(",")));
     metadata.push(("merged_from".into(), images.len().to_string()));
     Ok(ExrImage { width: first.width, height: first.height, channels, metadata })
+}
+
+/// The estimated RMS relative error of merged channels, sqrt of the mean over pixels of
+/// stderr.Y² / (XYZ.Y² + 1e-3) (as the film estimates it, `Film::estimated_rel_error`).
+fn estimated_rel_error(channels: &[Channel]) -> f64 {
+    let get = |n: &str| channels.iter().find(|c| c.name == n).map(|c| c.values.as_slice()).unwrap_or_default();
+    let (y, se) = (get(LUMINANCE), get(STDERR));
+    let sum: f64 = y.iter().zip(se).map(|(&y, &e)| (e as f64).powi(2) / ((y as f64).powi(2) + REL_EPS)).sum();
+    (sum / y.len().max(1) as f64).sqrt()
 }
 
 /// Per pixel, the mean of channel `mean` over all the images' samples, `count(k, p)` of them in
@@ -196,7 +205,7 @@ fn pooled_block_stderr(images: &[ExrImage], counts: &[&[f32]], name: &str, size:
     let mut sum = vec![0.0f64; blocks];
     let mut sum_sq = vec![0.0f64; blocks];
     for (img, n) in images.iter().zip(counts) {
-        let (y, se) = (img.channel("XYZ.Y").unwrap_or_default(), img.channel(name).unwrap_or_default());
+        let (y, se) = (img.channel(LUMINANCE).unwrap_or_default(), img.channel(name).unwrap_or_default());
         let mut mean = vec![(0.0f64, 0usize); blocks];
         for (p, &v) in y.iter().enumerate().take(w * h) {
             let b = (p / w / size) * cols + (p % w) / size;

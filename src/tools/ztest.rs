@@ -17,7 +17,7 @@
 use std::collections::BTreeMap;
 use std::fmt;
 
-use crate::film::{BLOCK_BASE, Film, Quantity, block_sizes};
+use crate::film::{BLOCK_BASE, Film, LUMINANCE, Quantity, STDERR, block_sizes};
 use crate::output::ExrImage;
 
 /// A luminance image with the variances of its estimates.
@@ -50,8 +50,8 @@ impl Estimate {
     /// The beauty luminance `Y` of an EXR written by quasar (or by the cross-check script) with
     /// its `stderr.Y` and, if present, `stderr.block<N>` channels.
     pub fn from_exr(img: &ExrImage) -> Result<Self, String> {
-        let y = img.channel("XYZ.Y").ok_or("the image has no XYZ.Y channel")?;
-        let se = img.channel("stderr.Y").ok_or("the image has no stderr.Y channel")?;
+        let y = img.channel(LUMINANCE).ok_or(format!("the image has no {LUMINANCE} channel"))?;
+        let se = img.channel(STDERR).ok_or(format!("the image has no {STDERR} channel"))?;
         let mut block_var = BTreeMap::new();
         for c in &img.channels {
             let Some(size) = c.name.strip_prefix("stderr.block").and_then(|s| s.parse::<usize>().ok()) else {

@@ -1,0 +1,39 @@
+//! Docs that restate a table of the code are generated from it: each generated section of a
+//! document sits between `<!-- generated: NAME -->` and `<!-- end generated: NAME -->`, and must
+//! equal what the table gives now. `QUASAR_BLESS=1 cargo test --release --test docs_tables`
+//! rewrites the sections from the tables instead of failing.
+
+use std::path::Path;
+
+/// The generated sections: (document, section name, its text from the code's table).
+fn sections() -> Vec<(&'static str, &'static str, String)> {
+    vec![
+        ("README.md", "output channels", quasar::film::outputs::markdown_table()),
+        ("README.md", "header entries", quasar::render::header::markdown_table()),
+    ]
+}
+
+#[test]
+fn generated_doc_sections_match_their_tables() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let bless = std::env::var_os("QUASAR_BLESS").is_some();
+    let mut stale = Vec::new();
+    for (doc, name, table) in sections() {
+        let path = root.join(doc);
+        let text = std::fs::read_to_string(&path).unwrap();
+        let (open, close) = (format!("<!-- generated: {name} -->\n"), format!("<!-- end generated: {name} -->"));
+        let start = text.find(&open).unwrap_or_else(|| panic!("{doc} has no section '{open}'")) + open.len();
+        let end = start + text[start..].find(&close).unwrap_or_else(|| panic!("{doc}: '{open}' is not closed"));
+        if text[start..end] != table {
+            if bless {
+                std::fs::write(&path, format!("{}{table}{}", &text[..start], &text[end..])).unwrap();
+            } else {
+                stale.push(format!("{doc}: section '{name}'"));
+            }
+        }
+    }
+    assert!(
+        stale.is_empty(),
+        "generated sections differ from their tables (QUASAR_BLESS=1 cargo test --release --test docs_tables rewrites them): {stale:?}"
+    );
+}
