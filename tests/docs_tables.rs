@@ -8,8 +8,9 @@ use std::path::Path;
 /// The generated sections: (document, section name, its text from the code's table).
 fn sections() -> Vec<(&'static str, &'static str, String)> {
     vec![
-        ("README.md", "output channels", quasar::film::outputs::markdown_table()),
-        ("README.md", "header entries", quasar::render::header::markdown_table()),
+        ("README.md", "output channels", quasar::tools::doc_tables::outputs_table()),
+        ("README.md", "header entries", quasar::tools::doc_tables::header_table()),
+        ("docs/scene-format.md", "render keys", quasar::tools::doc_tables::render_keys_table()),
     ]
 }
 
@@ -36,4 +37,13 @@ fn generated_doc_sections_match_their_tables() {
         stale.is_empty(),
         "generated sections differ from their tables (QUASAR_BLESS=1 cargo test --release --test docs_tables rewrites them): {stale:?}"
     );
+}
+
+/// `quasar render --help` lists the names `--aov` takes, which are the output table's.
+#[test]
+fn the_help_lists_the_aov_names_of_the_output_table() {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_quasar")).args(["render", "--help"]).output().unwrap();
+    let help = String::from_utf8_lossy(&o.stdout).split_whitespace().collect::<Vec<_>>().join(" ");
+    let names = quasar::film::outputs::aov_names().join(", ");
+    assert!(help.contains(&format!("scene's `aovs`): {names} (Cryptomatte)")), "{help}");
 }

@@ -288,3 +288,26 @@ fn the_kappa_table_is_made_once_even_when_workers_ask_for_it_together() {
     assert!(kappa("glass_top") > NARROW_KAPPA, "{}", kappa("glass_top"));
     assert!(kappa("glass_side").is_infinite());
 }
+
+/// `--radius` is in the scene file's units, as `[render] radius` is (issue 48: the command line
+/// read metres): on a scene in millimetres, 20 from either place is a 2 cm radius.
+#[test]
+fn the_radius_is_in_scene_units_on_the_command_line_too() {
+    let floor = "[materials.floor]\ntype = \"diffuse\"\nreflectance = 0.5";
+    let mm = format!("units = \"mm\"\n{}", common::glossy_floor_scene(floor));
+    let scene = write_scene(&mm, &[]);
+    let ov = JobOverrides {
+        spp: Some(1),
+        method: Some("vismap".into()),
+        width: Some(8),
+        height: Some(6),
+        ..Default::default()
+    }
+    .with_param("photons_per_iteration", 100u32);
+    let cli = render_file(&scene.path, &ov.clone().with_param("radius", 20.0)).image;
+    let file = write_scene(&mm.replace("[render]", "[render]\nradius = 20"), &[]);
+    let in_file = render_file(&file.path, &ov).image;
+    let metres = |img: &quasar::output::ExrImage| img.meta("radius").unwrap().parse::<f64>().unwrap();
+    assert!((metres(&cli) - 0.02).abs() < 1e-6, "{}", metres(&cli));
+    assert_eq!(metres(&cli), metres(&in_file));
+}

@@ -27,6 +27,9 @@ fn ov(method: &str, shard: Option<(u32, u32)>) -> JobOverrides {
         spectral_bins: Some(quasar::film::SpectralBins::new(8, 360.0, 830.0).unwrap()),
         // so do the illuminance layer's samples (K + N j of 8) and its standard errors
         illuminance_samples: Some(8),
+        // and every auxiliary output (the same in every shard)
+        aovs: Some(quasar::film::outputs::aov_names().iter().map(|s| s.to_string()).collect()),
+        aov_samples: Some(4),
         ..Default::default()
     }
     .with_photons_if_read(method, 3000)

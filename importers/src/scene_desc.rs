@@ -268,6 +268,12 @@ pub struct RenderSettings {
     pub masking: quasar_materials::Masking,
     /// Samples per pixel of the `illuminance.Y` layer (`illuminance_samples`; 0: no layer).
     pub illuminance_samples: u32,
+    /// The auxiliary outputs asked for (`aovs`), validated by the renderer's output table.
+    pub aovs: Vec<String>,
+    /// Where `aovs` was given (for errors).
+    pub aovs_place: Option<ErrorPlace>,
+    /// Rays per pixel of the auxiliary outputs (`aov_samples`).
+    pub aov_samples: u32,
 }
 
 /// A value of a method parameter as written in a scene file or on the command line.
@@ -351,6 +357,9 @@ impl Default for RenderSettings {
             unit: 1.0,
             masking: quasar_materials::Masking::HeightCorrelated,
             illuminance_samples: 0,
+            aovs: Vec::new(),
+            aovs_place: None,
+            aov_samples: 16,
         }
     }
 }

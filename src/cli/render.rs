@@ -82,6 +82,14 @@ pub struct RenderArgs {
     /// itself keeps the standard layers only, so that every EXR reader opens it.
     #[arg(long, value_name = "N")]
     pub spectral_bins: Option<u32>,
+    /// Auxiliary outputs, comma-separated (over the scene's `aovs`): normal, normal_geometric,
+    /// position, albedo, material_id, object_id, crypto_material, crypto_object (Cryptomatte);
+    /// the README's channel table says what each holds.
+    #[arg(long = "aov", value_name = "NAME,...", value_delimiter = ',')]
+    pub aovs: Option<Vec<String>>,
+    /// Rays per pixel of the auxiliary outputs (default: the scene's `aov_samples`, else 16).
+    #[arg(long, value_name = "N")]
+    pub aov_samples: Option<u32>,
     /// Wavelength range MIN:MAX in nm of --spectral-bins (default 360:830, the sampled range).
     #[arg(long, value_name = "MIN:MAX", value_parser = parse_range, requires = "spectral_bins")]
     pub spectral_range: Option<(f64, f64)>,
@@ -230,6 +238,8 @@ pub fn render(args: RenderArgs) -> Result<ExitCode> {
         resume,
         masking,
         illuminance_samples,
+        aovs,
+        aov_samples,
         spectral_bins,
         spectral_range,
         default_light,
@@ -272,6 +282,8 @@ pub fn render(args: RenderArgs) -> Result<ExitCode> {
         masking,
         illuminance_samples,
         spectral_bins,
+        aovs,
+        aov_samples,
         isa: isa.0,
     };
     let exr = output.unwrap_or_else(|| {

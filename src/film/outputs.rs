@@ -20,6 +20,9 @@ pub enum ChannelSet {
     SpectralBins,
     /// `block<N>` per block size N (`stderr.block4`, ...).
     BlockSizes,
+    /// Cryptomatte's rank pairs: layers `<layer>00`, `<layer>01`, ... each with `R`, `G`, `B`,
+    /// `A` = (id, coverage) of two ranks (the Cryptomatte specification).
+    Cryptomatte,
 }
 
 impl ChannelSet {
@@ -32,6 +35,7 @@ impl ChannelSet {
             Self::Z => channel == "Z",
             Self::SpectralBins => channel.ends_with("nm"),
             Self::BlockSizes => channel.strip_prefix("block").is_some_and(|n| n.parse::<usize>().is_ok_and(|n| n > 0)),
+            Self::Cryptomatte => matches!(channel, "R" | "G" | "B" | "A"),
         }
     }
 
@@ -42,7 +46,7 @@ impl ChannelSet {
             Self::Xyz => &["X", "Y", "Z"],
             Self::Y => &["Y"],
             Self::Z => &["Z"],
-            Self::SpectralBins | Self::BlockSizes => &[],
+            Self::SpectralBins | Self::BlockSizes | Self::Cryptomatte => &[],
         }
     }
 
@@ -55,6 +59,7 @@ impl ChannelSet {
             Self::Z => "Z",
             Self::SpectralBins => "<λ>nm",
             Self::BlockSizes => "block<N>",
+            Self::Cryptomatte => "{R,G,B,A}",
         }
     }
 }
@@ -72,6 +77,9 @@ pub enum Producer {
     DepthPass,
     /// The bidirectional methods (`RenderPass::extra_channels`).
     Method,
+    /// The pass of auxiliary outputs over the first surfaces the camera sees (`render::aovs`),
+    /// for the rows asked for by `--aov`.
+    AovPass,
 }
 
 /// How `quasar merge` combines a group over images of disjoint samples of one render.
@@ -118,6 +126,8 @@ pub struct OutputGroup {
     pub producer: Producer,
     /// When it is written ("always", or the option that asks for it).
     pub when: &'static str,
+    /// The name that asks for it in `--aov` and `[render] aovs` (None: not an opt-in output).
+    pub aov: Option<&'static str>,
     /// How `quasar merge` combines it.
     pub merge: MergeRule,
     /// Whether `quasar compare` (and a z-test) measures it against a reference: an estimate of
@@ -144,6 +154,8 @@ impl OutputGroup {
     pub fn pattern(&self) -> String {
         if self.layer.is_empty() {
             "`R`, `G`, `B`".to_string()
+        } else if self.channels == ChannelSet::Cryptomatte {
+            format!("`{}NN.{}`", self.layer, self.channels.pattern())
         } else {
             format!("`{}.{}`", self.layer, self.channels.pattern())
         }
@@ -152,6 +164,13 @@ impl OutputGroup {
     /// Whether the group holds channel `name`.
     pub fn holds(&self, name: &str) -> bool {
         match name.rsplit_once('.') {
+            Some((layer, c)) if self.channels == ChannelSet::Cryptomatte => {
+                let rank = layer.strip_prefix(self.layer).unwrap_or_default();
+                !self.layer.is_empty()
+                    && rank.len() == 2
+                    && rank.bytes().all(|b| b.is_ascii_digit())
+                    && self.channels.contains(c)
+            }
             Some((layer, c)) => layer == self.layer && self.channels.contains(c),
             None => self.layer.is_empty() && self.channels.contains(name),
         }
@@ -182,9 +201,32 @@ const fn radiance_layer(layer: &'static str, doc: &'static str) -> OutputGroup {
         channels: ChannelSet::Rgb,
         producer: Producer::Film,
         when: "always",
+        aov: None,
         merge: MergeRule::SampleMean,
         compared: true,
         unit: "relative radiance, linear sRGB",
+        doc,
+    }
+}
+
+/// A row of the auxiliary outputs (`--aov NAME`): computed by the AOV pass, the same in every
+/// shard, not a radiance estimate.
+const fn aov(
+    layer: &'static str,
+    name: &'static str,
+    channels: ChannelSet,
+    unit: &'static str,
+    doc: &'static str,
+) -> OutputGroup {
+    OutputGroup {
+        layer,
+        channels,
+        producer: Producer::AovPass,
+        when: "--aov",
+        aov: Some(name),
+        merge: MergeRule::First,
+        compared: false,
+        unit,
         doc,
     }
 }
@@ -196,6 +238,7 @@ pub const OUTPUTS: &[OutputGroup] = &[
         channels: ChannelSet::Rgb,
         producer: Producer::Film,
         when: "always",
+        aov: None,
         merge: MergeRule::SampleMean,
         compared: true,
         unit: "relative radiance, linear sRGB",
@@ -206,6 +249,7 @@ pub const OUTPUTS: &[OutputGroup] = &[
         channels: ChannelSet::Xyz,
         producer: Producer::Film,
         when: "always",
+        aov: None,
         merge: MergeRule::SampleMean,
         compared: true,
         unit: "relative radiance, CIE 1931 XYZ",
@@ -223,6 +267,7 @@ pub const OUTPUTS: &[OutputGroup] = &[
         channels: ChannelSet::Y,
         producer: Producer::Photometry,
         when: "always",
+        aov: None,
         merge: MergeRule::SampleMean,
         compared: true,
         unit: "cd/m²",
@@ -233,6 +278,7 @@ pub const OUTPUTS: &[OutputGroup] = &[
         channels: ChannelSet::Y,
         producer: Producer::IlluminancePass,
         when: "--illuminance-samples N",
+        aov: None,
         merge: MergeRule::HeaderCountMean { count: ILLUMINANCE_SAMPLES },
         compared: true,
         unit: "lx",
@@ -243,6 +289,7 @@ pub const OUTPUTS: &[OutputGroup] = &[
         channels: ChannelSet::Y,
         producer: Producer::IlluminancePass,
         when: "--illuminance-samples N",
+        aov: None,
         merge: MergeRule::HeaderCountStderr { mean: ILLUMINANCE_LX, count: ILLUMINANCE_SAMPLES },
         compared: false,
         unit: "lx",
@@ -253,6 +300,7 @@ pub const OUTPUTS: &[OutputGroup] = &[
         channels: ChannelSet::SpectralBins,
         producer: Producer::Film,
         when: "--spectral-bins N",
+        aov: None,
         merge: MergeRule::SampleMean,
         compared: true,
         unit: "relative spectral radiance per nm (W m⁻² sr⁻¹ nm⁻¹ with absolute lights)",
@@ -263,6 +311,7 @@ pub const OUTPUTS: &[OutputGroup] = &[
         channels: ChannelSet::Z,
         producer: Producer::DepthPass,
         when: "always",
+        aov: None,
         merge: MergeRule::First,
         compared: false,
         unit: "m",
@@ -273,6 +322,7 @@ pub const OUTPUTS: &[OutputGroup] = &[
         channels: ChannelSet::Y,
         producer: Producer::Film,
         when: "always",
+        aov: None,
         merge: MergeRule::Sum,
         compared: false,
         unit: "samples",
@@ -283,6 +333,7 @@ pub const OUTPUTS: &[OutputGroup] = &[
         channels: ChannelSet::Y,
         producer: Producer::Film,
         when: "always",
+        aov: None,
         merge: MergeRule::PooledStderr { mean: LUMINANCE },
         compared: false,
         unit: "as `XYZ.Y`",
@@ -293,6 +344,7 @@ pub const OUTPUTS: &[OutputGroup] = &[
         channels: ChannelSet::BlockSizes,
         producer: Producer::Film,
         when: "bidirectional methods",
+        aov: None,
         merge: MergeRule::PooledBlockStderr,
         compared: false,
         unit: "as `XYZ.Y`",
@@ -303,25 +355,83 @@ pub const OUTPUTS: &[OutputGroup] = &[
         channels: ChannelSet::Y,
         producer: Producer::Method,
         when: "bidirectional methods",
+        aov: None,
         merge: MergeRule::SampleMean,
         compared: false,
         unit: "scattering events",
         doc: "bidirectional methods: the gather depth used, mean over iterations",
     },
+    aov(
+        "normal",
+        "normal",
+        ChannelSet::Xyz,
+        "unit vector, world space",
+        "with `--aov normal`: the shading normal (world space, the side of the triangle's winding) at the first surface the pixel's camera rays hit, averaged over the AOV samples (0 where they miss)",
+    ),
+    aov(
+        "normal_geometric",
+        "normal_geometric",
+        ChannelSet::Xyz,
+        "unit vector, world space",
+        "with `--aov normal_geometric`: the triangle's geometric normal there, averaged the same way",
+    ),
+    aov(
+        "position",
+        "position",
+        ChannelSet::Xyz,
+        "m, world space",
+        "with `--aov position`: the world-space point (m) there, averaged the same way",
+    ),
+    aov(
+        "albedo",
+        "albedo",
+        ChannelSet::Rgb,
+        "reflectance, linear sRGB",
+        "with `--aov albedo`: the directional-hemispherical reflectance (reflection plus transmission) of the BSDF at the first non-specular surface, through mirrors and smooth glass, under D65 in linear sRGB (a white diffuse surface is 1, 1, 1); estimated by one BSDF sample per AOV sample",
+    ),
+    aov(
+        "material_id",
+        "material_id",
+        ChannelSet::Y,
+        "integer id",
+        "with `--aov material_id`: the index + 1 of the material covering most of the pixel's AOV samples (0: none); the header's `material_ids` maps ids to names",
+    ),
+    aov(
+        "object_id",
+        "object_id",
+        ChannelSet::Y,
+        "integer id",
+        "with `--aov object_id`: the same for the mesh (object); the header's `object_ids` maps ids to names",
+    ),
+    aov(
+        "CryptoMaterial",
+        "crypto_material",
+        ChannelSet::Cryptomatte,
+        "Cryptomatte id, coverage",
+        "with `--aov crypto_material`: Cryptomatte of the material names (MurmurHash3 ids, six ranks of id and coverage in `CryptoMaterial00`-`02`, the manifest in the header's `cryptomatte/<key>/manifest`), for Nuke's and Blender's Cryptomatte nodes",
+    ),
+    aov(
+        "CryptoObject",
+        "crypto_object",
+        ChannelSet::Cryptomatte,
+        "Cryptomatte id, coverage",
+        "with `--aov crypto_object`: the same for the mesh (object) names",
+    ),
 ];
+
+/// The rows of the auxiliary outputs that `--aov` can ask for, by name.
+pub fn aov_names() -> Vec<&'static str> {
+    OUTPUTS.iter().filter_map(|g| g.aov).collect()
+}
+
+/// The row asked for by `--aov name`, if any.
+pub fn aov_row(name: &str) -> Option<&'static OutputGroup> {
+    OUTPUTS.iter().find(|g| g.aov == Some(name))
+}
 
 /// The row of [`OUTPUTS`] that holds channel `name`, if any.
 pub fn group_of(name: &str) -> Option<&'static OutputGroup> {
     OUTPUTS.iter().find(|g| g.holds(name))
-}
-
-/// The README's channel table (markdown), one line per row of [`OUTPUTS`].
-pub fn markdown_table() -> String {
-    let mut s = String::from("| channel | content |\n|---|---|\n");
-    for g in OUTPUTS {
-        s += &format!("| {} | {} |\n", g.pattern(), g.doc);
-    }
-    s
 }
 
 #[cfg(test)]
@@ -341,7 +451,11 @@ mod tests {
             assert_eq!(group_of(name).map(|g| g.layer), Some(layer), "{name}");
         }
         assert_eq!(group_of("stderr.block16").map(|g| g.channels), Some(ChannelSet::BlockSizes));
-        for unknown in ["Y", "direct.Y", "stderr.block0", "stderr.blockx", "nothing.R"] {
+        assert_eq!(group_of("CryptoObject01.A").map(|g| g.layer), Some("CryptoObject"));
+        assert_eq!(group_of("normal.Y").map(|g| g.aov), Some(Some("normal")));
+        for unknown in
+            ["Y", "direct.Y", "stderr.block0", "stderr.blockx", "nothing.R", "CryptoObject.R", "CryptoObject1.R"]
+        {
             assert!(group_of(unknown).is_none(), "{unknown}");
         }
         // no two rows hold one channel

@@ -103,6 +103,9 @@ impl fmt::Display for ParamError {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct MethodParams {
     values: BTreeMap<String, (ParamValue, Origin)>,
+    /// Metres per unit of the command line's lengths: the scene file's unit once
+    /// [`over_scene`](Self::over_scene) has combined them (None: metres).
+    command_line_unit: Option<f32>,
 }
 
 impl MethodParams {
@@ -112,9 +115,10 @@ impl MethodParams {
     }
 
     /// These command-line values over the scene file's `file` (keys no method reads: an error
-    /// at their place, with a suggestion).
+    /// at their place, with a suggestion); lengths on the command line are then in the scene
+    /// file's units too (`unit` metres each), as in its `[render]` table.
     pub fn over_scene(&self, file: &[RenderParam], unit: f32, known: &[&str]) -> Result<Self, ParamError> {
-        let mut out = Self::default();
+        let mut out = Self { command_line_unit: Some(unit), ..Self::default() };
         for p in file {
             if !known.contains(&p.key.as_str()) {
                 return Err(ParamError {
@@ -221,7 +225,7 @@ impl<'a> ParamReader<'a> {
             ParamKind::Length => {
                 let unit = match origin {
                     Origin::SceneFile { unit, .. } => *unit as f64,
-                    Origin::CommandLine => 1.0,
+                    Origin::CommandLine => self.params.command_line_unit.unwrap_or(1.0) as f64,
                 };
                 let m = x * unit;
                 (x > 0.0 && m.is_finite() && m > 0.0 && m < f32::MAX as f64, m)

@@ -1,5 +1,7 @@
 //! Single-part, multi-layer float32 OpenEXR files with `layer.channel` names (docs/architecture.md §6),
-//! written atomically (temporary file in the same directory, then rename). An image with
+//! written atomically (temporary file in the same directory, then rename). Header entries
+//! `cryptomatte/...` are written as string attributes of those names (`output::cryptomatte`).
+//! An image with
 //! spectral channels `S0.<lambda>nm` also gets the header attributes of the spectral layout
 //! (`spectralLayoutVersion`, `emissiveUnits`; [`SpectralBins::attributes`]).
 
@@ -97,7 +99,12 @@ pub fn write_exr_atomic(img: &ExrImage, path: &Path) -> std::result::Result<(), 
     let meta: String = img.metadata.iter().map(|(k, v)| format!("{k}={v}\n")).collect();
     attrs.other.insert(Text::from("quasar"), AttributeValue::Text(Text::from(meta.as_str())));
     for (k, v) in &img.metadata {
-        attrs.other.insert(Text::from(format!("quasar:{k}").as_str()), typed_attribute(v));
+        if k.starts_with("cryptomatte/") {
+            // the Cryptomatte decoders read these string attributes under their own names
+            attrs.other.insert(Text::from(k.as_str()), AttributeValue::Text(Text::from(v.as_str())));
+        } else {
+            attrs.other.insert(Text::from(format!("quasar:{k}").as_str()), typed_attribute(v));
+        }
     }
     // an image with spectral channels is an emissive spectral image of Fichet et al. 2021
     if img.channels.iter().any(|c| SpectralBins::is_channel(&c.name)) {

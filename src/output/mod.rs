@@ -1,6 +1,7 @@
 //! Writing images: multi-layer OpenEXR (atomic) and tone-mapped PNG previews.
 
 pub mod atomic;
+pub mod cryptomatte;
 pub mod exr_file;
 pub mod false_colour;
 pub mod preview;

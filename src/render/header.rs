@@ -90,27 +90,20 @@ pub const HEADER: &[HeaderKey] = &[
     row("alpha", Agree, "bidirectional methods: the radius reduction alpha"),
     row("photons", Sum, "bidirectional methods: photons traced"),
     row("time_share", First, "bidirectional methods: the share of time per phase"),
+    row("aov_samples", First, "with `--aov`: rays per pixel of the auxiliary outputs"),
+    row("material_ids", First, "with `--aov material_id`: a JSON object from each id to its material's name"),
+    row("object_ids", First, "with `--aov object_id`: a JSON object from each id to its mesh's name"),
+    row(
+        "cryptomatte/*",
+        First,
+        "with `--aov crypto_*`: the Cryptomatte layers' `name`, `hash`, `conversion` and `manifest`, as string attributes of these names",
+    ),
 ];
 
-/// The row of `key`, if any.
+/// The row of `key`, if any (a row whose key ends in `*` holds every key with its prefix).
 pub fn header_key(key: &str) -> Option<&'static HeaderKey> {
-    HEADER.iter().find(|h| h.key == key)
-}
-
-/// The README's table of header entries (markdown), one line per row of [`HEADER`].
-pub fn markdown_table() -> String {
-    let mut s = String::from("| key | `quasar merge` | content |\n|---|---|---|\n");
-    for h in HEADER {
-        let merge = match h.merge {
-            Agree => "must agree",
-            Sum => "summed",
-            AnyTrue => "true if any is",
-            Recomputed => "recomputed",
-            Merged => "`merged`",
-            Dropped => "replaced",
-            First => "the first image's",
-        };
-        s += &format!("| `{}` | {merge} | {} |\n", h.key, h.doc);
-    }
-    s
+    HEADER.iter().find(|h| match h.key.strip_suffix('*') {
+        Some(prefix) => key.starts_with(prefix),
+        None => h.key == key,
+    })
 }

@@ -53,6 +53,10 @@ pub struct JobOverrides {
     pub illuminance_samples: Option<u32>,
     /// Write the beauty's spectral radiance in these bins as `S0.<lambda>nm` channels.
     pub spectral_bins: Option<SpectralBins>,
+    /// The auxiliary outputs to write (names of `--aov`), over the scene's `aovs`.
+    pub aovs: Option<Vec<String>>,
+    /// Rays per pixel of the auxiliary outputs, over the scene's `aov_samples`.
+    pub aov_samples: Option<u32>,
     /// Instruction set of the render kernels (None: the best this CPU runs).
     pub isa: Option<Isa>,
 }
@@ -122,6 +126,7 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
     let known: Vec<&str> = all_params().iter().map(|p| p.key).collect();
     let params = ov.params.over_scene(&r.params, r.unit, &known).map_err(anyhow::Error::msg)?;
 
+    let aovs = aov_rows(desc, ov)?;
     let isa = ov.isa.unwrap_or_else(Isa::best);
     if !isa.available() {
         bail!("this CPU lacks the instruction set {} asked for", isa.name());
@@ -292,6 +297,15 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         channels.push(Channel { name: ILLUMINANCE_STDERR_LX.into(), values: stderr });
         illuminance_taken = Some(taken);
     }
+    let mut aov_header = Vec::new();
+    if !aovs.is_empty() {
+        let objects: Vec<String> = desc.meshes.iter().map(|m| m.name.clone()).collect();
+        let names = crate::render::aovs::IdNames { materials: &scene.material_names, objects: &objects };
+        let samples = ov.aov_samples.unwrap_or(r.aov_samples).max(1);
+        let (aov_channels, entries) = crate::render::aovs::aov_pass(&scene, &camera, &names, &aovs, samples, seed);
+        channels.extend(aov_channels);
+        aov_header = entries;
+    }
     channels.push(Channel { name: DEPTH.into(), values: result.depth.clone() });
     channels.extend(result.extra.iter().cloned());
     let mut header = vec![
@@ -337,8 +351,28 @@ pub fn render_desc(desc: &SceneDesc, ov: &JobOverrides, progress: bool) -> Resul
         header.push(("auto_pilot".into(), p.report.clone()));
     }
     header.extend(result.header.iter().cloned());
+    header.extend(aov_header);
     let image = ExrImage { width: width as usize, height: height as usize, channels, metadata: header };
     Ok(JobOutput { image, result })
+}
+
+/// The rows of the auxiliary outputs asked for (`--aov` over the scene's `aovs`), in the output
+/// table's order; an unknown name is an error naming where it was given and the known ones.
+fn aov_rows(desc: &SceneDesc, ov: &JobOverrides) -> Result<Vec<&'static crate::film::outputs::OutputGroup>> {
+    use crate::film::outputs::{OUTPUTS, aov_names, aov_row};
+    let (names, place) = match &ov.aovs {
+        Some(list) => (list, "--aov".to_string()),
+        None => (
+            &desc.render.aovs,
+            desc.render.aovs_place.as_ref().map_or_else(|| "[render] aovs".into(), |p| format!("{p}: `render.aovs`")),
+        ),
+    };
+    for n in names {
+        if aov_row(n).is_none() {
+            bail!("{place}: unknown output '{n}' (known: {})", aov_names().join(", "));
+        }
+    }
+    Ok(OUTPUTS.iter().filter(|r| r.aov.is_some_and(|a| names.iter().any(|n| n == a))).collect())
 }
 
 /// The bins as the header and the resume key state them: `N x D nm over MIN:MAX nm`.

@@ -1,6 +1,7 @@
 //! Running a render: the driver loop (budgets, shards, interruption, progress, checkpoints), the
 //! checkpoint format, and the job that takes a scene file to an image.
 
+pub mod aovs;
 pub mod checkpoint;
 pub mod default_light;
 pub mod driver;

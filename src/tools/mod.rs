@@ -5,6 +5,7 @@
 pub mod bsdf_report;
 pub mod compare;
 pub mod convergence;
+pub mod doc_tables;
 pub mod import_bench;
 pub mod info;
 pub mod light_summary;

@@ -22,6 +22,7 @@ use quasar_materials::spectrum::Spectrum;
 use toml::de::DeValue;
 
 pub use material::MATERIAL_TYPES;
+pub use settings::{RENDER_KEYS, RenderKey};
 pub use shape::{DEFAULT_DISK_SEGMENTS, DEFAULT_SPHERE_SUBDIVISIONS, MAX_DISK_SEGMENTS, MAX_SPHERE_SUBDIVISIONS};
 pub use spectrum::{MAX_SPECTRUM_ENTRIES, csv_spectrum};
 

@@ -8,17 +8,63 @@ use crate::error::ImportError;
 use crate::scene_desc::{CameraDesc, FovAxis, LightDesc, ParamValue, RenderParam, RenderSettings};
 use crate::toml_reader::{Tbl, number};
 
+/// A key of the `[render]` table that the importer reads itself (the others are the methods'
+/// parameters, documented by the renderer's method table).
+#[derive(Clone, Copy, Debug)]
+pub struct RenderKey {
+    /// The key.
+    pub key: &'static str,
+    /// What it takes.
+    pub value: &'static str,
+    /// Its default.
+    pub default: &'static str,
+}
+
+/// The `[render]` keys read here, in the documentation's order (docs/scene-format.md's table is
+/// generated from it and the method table).
+pub const RENDER_KEYS: [RenderKey; 11] = [
+    RenderKey { key: "width", value: "image width in pixels, integer 1..=65536", default: "640" },
+    RenderKey { key: "height", value: "image height in pixels, integer 1..=65536", default: "480" },
+    RenderKey { key: "spp", value: "samples per pixel, integer >= 1", default: "64" },
+    RenderKey { key: "time", value: "time budget in seconds (> 0); overrides `spp`", default: "unset" },
+    RenderKey { key: "seed", value: "seed of the random streams, integer 0..=2^64-1", default: "0" },
+    RenderKey {
+        key: "method",
+        value: "`\"auto\"` or a method of the method table (README: `--method`)",
+        default: "`\"auto\"`",
+    },
+    RenderKey {
+        key: "target_error",
+        value: "stop when the image's estimated RMS relative error is at most this (> 0)",
+        default: "unset",
+    },
+    RenderKey {
+        key: "masking",
+        value: "microfacet masking-shadowing of every GGX material: `\"height-correlated\"` or `\"separable\"`",
+        default: "`\"height-correlated\"`",
+    },
+    RenderKey {
+        key: "illuminance_samples",
+        value: "samples per pixel of the `illuminance.Y` layer (lux at the first surface the pixel's camera rays hit, with its standard errors in `illuminance_stderr.Y`, [photometry.md](photometry.md)); 0: no layer",
+        default: "0",
+    },
+    RenderKey {
+        key: "aovs",
+        value: "auxiliary outputs, an array of names of the README's channel table (`[\"normal\", \"albedo\", \"crypto_object\"]`; `--aov`)",
+        default: "`[]`",
+    },
+    RenderKey { key: "aov_samples", value: "rays per pixel of the auxiliary outputs, 1..=65536", default: "16" },
+];
+
 /// Reads the `[render]` table (defaults when absent). The image, budget and seed keys are read
 /// here; every other key is a method parameter, kept with its place for the renderer's method
 /// table to validate (`unit` converts its lengths).
 pub(super) fn render(t: Option<Tbl<'_>>, unit: f32) -> Result<RenderSettings, ImportError> {
     let mut r = RenderSettings { unit, ..RenderSettings::default() };
     let Some(t) = t else { return Ok(r) };
-    const OWN: [&str; 9] =
-        ["width", "height", "spp", "time", "seed", "method", "target_error", "masking", "illuminance_samples"];
     for (k, v) in t.entries() {
         let key: &str = k.get_ref();
-        if OWN.contains(&key) {
+        if RENDER_KEYS.iter().any(|r| r.key == key) {
             continue;
         }
         let value = match v.get_ref() {
@@ -63,6 +109,21 @@ pub(super) fn render(t: Option<Tbl<'_>>, unit: f32) -> Result<RenderSettings, Im
     }
     if let Some(n) = t.opt_int("illuminance_samples", 0, 1 << 20)? {
         r.illuminance_samples = n;
+    }
+    if let Some(v) = t.get("aovs") {
+        let what = t.key_path("aovs");
+        let toml::de::DeValue::Array(a) = v.get_ref() else {
+            return Err(t.doc.invalid(&v.span(), format!("`{what}` must be an array of output names")));
+        };
+        r.aovs = a
+            .iter()
+            .enumerate()
+            .map(|(i, x)| crate::toml_reader::string(t.doc, x, &format!("{what}[{i}]")).map(str::to_owned))
+            .collect::<Result<_, _>>()?;
+        r.aovs_place = Some(t.doc.place(&v.span()));
+    }
+    if let Some(n) = t.opt_int("aov_samples", 1, 1 << 16)? {
+        r.aov_samples = n;
     }
     if let Some((m, _)) = t.choice("masking", &quasar_materials::Masking::NAMES)? {
         r.masking = quasar_materials::Masking::from_name(m).unwrap_or_default();

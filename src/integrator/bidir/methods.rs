@@ -70,7 +70,7 @@ pub static RADIUS: ParamSpec = ParamSpec {
     flag: "radius",
     kind: ParamKind::Length,
     default: "automatic (3 pixel footprints, shrunk where photons are dense)",
-    doc: "initial gather radius in scene units",
+    doc: "initial gather radius, in the scene file's length units on the command line as in its `[render]` table (a TOML scene's `units`; metres for the other formats)",
 };
 /// `radius_pixels`.
 pub static RADIUS_PIXELS: ParamSpec = ParamSpec {

@@ -1,0 +1,59 @@
+//! The documentation's copies of the code's tables, generated from them (tests/docs_tables.rs
+//! checks each generated section of the docs against these): the README's output channels
+//! ([`OUTPUTS`]) and header entries ([`HEADER`]), and docs/scene-format.md's `[render]` keys
+//! (the importer's [`RENDER_KEYS`] and every method parameter of the method table).
+
+use quasar_importers::toml_scene::RENDER_KEYS;
+
+use crate::film::outputs::OUTPUTS;
+use crate::integrator::method::{all_params, users_of};
+use crate::integrator::params::ParamKind;
+use crate::render::header::{HEADER, HeaderMerge};
+
+/// The README's channel table: one line per row of [`OUTPUTS`].
+pub fn outputs_table() -> String {
+    let mut s = String::from("| channel | content |\n|---|---|\n");
+    for g in OUTPUTS {
+        s += &format!("| {} | {} |\n", g.pattern(), g.doc);
+    }
+    s
+}
+
+/// The README's table of header entries: one line per row of [`HEADER`].
+pub fn header_table() -> String {
+    let mut s = String::from("| key | `quasar merge` | content |\n|---|---|---|\n");
+    for h in HEADER {
+        let merge = match h.merge {
+            HeaderMerge::Agree => "must agree",
+            HeaderMerge::Sum => "summed",
+            HeaderMerge::AnyTrue => "true if any is",
+            HeaderMerge::Recomputed => "recomputed",
+            HeaderMerge::Merged => "`merged`",
+            HeaderMerge::Dropped => "replaced",
+            HeaderMerge::First => "the first image's",
+        };
+        s += &format!("| `{}` | {merge} | {} |\n", h.key, h.doc);
+    }
+    s
+}
+
+/// docs/scene-format.md's `[render]` table: the importer's own keys, then every method
+/// parameter with the methods that read it, its range and its default.
+pub fn render_keys_table() -> String {
+    let mut s = String::from("| key | value | default |\n|---|---|---|\n");
+    for k in RENDER_KEYS {
+        s += &format!("| `{}` | {} | {} |\n", k.key, k.value, k.default);
+    }
+    for p in all_params() {
+        let users: Vec<String> = users_of(p.key).iter().map(|m| format!("`{m}`")).collect();
+        let range = match p.kind {
+            ParamKind::Int { min, max } => format!("integer {min}..={max}"),
+            ParamKind::Real { min, max } if max.is_infinite() => format!("number > {min}"),
+            ParamKind::Real { min, max } => format!("number in ({min}, {max})"),
+            ParamKind::Length => "length > 0".into(),
+            ParamKind::Bool => "true or false".into(),
+        };
+        s += &format!("| `{}` | {}: {}, {range} | {} |\n", p.key, users.join(", "), p.doc, p.default);
+    }
+    s
+}
