@@ -47,3 +47,17 @@ fn the_help_lists_the_aov_names_of_the_output_table() {
     let names = quasar::film::outputs::aov_names().join(", ");
     assert!(help.contains(&format!("scene's `aovs`): {names} (Cryptomatte)")), "{help}");
 }
+
+/// The docs name the checkpoint format the code writes (they said `QSRCKPT4` for `QSRCKPT5`).
+#[test]
+fn the_docs_name_the_current_checkpoint_format() {
+    let magic = std::str::from_utf8(quasar::render::checkpoint::MAGIC).unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for doc in ["docs/architecture.md", "src/render/checkpoint.rs"] {
+        let text = std::fs::read_to_string(root.join(doc)).unwrap();
+        for (i, _) in text.match_indices("QSRCKPT") {
+            assert_eq!(&text[i..i + 8], magic, "{doc} names another checkpoint format than {magic}");
+        }
+        assert!(text.contains(magic), "{doc} does not name {magic}");
+    }
+}

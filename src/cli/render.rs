@@ -365,7 +365,7 @@ pub fn render(args: RenderArgs) -> Result<ExitCode> {
     }
     if sensors_written && !out.result.interrupted {
         let scale = false_colour_scale.unwrap_or(ColourScale::Linear);
-        write_sensors(&desc, &exr, ov.seed.unwrap_or(desc.render.seed), scale, quiet)?;
+        write_sensors(&desc, &out.scene, &exr, ov.seed.unwrap_or(desc.render.seed), scale, quiet)?;
     }
     if out.result.interrupted {
         eprintln!("interrupted: wrote the partial image {} ({} spp)", exr.display(), out.result.spp);
@@ -416,19 +416,20 @@ pub fn sensor_csv_path(exr: &std::path::Path, name: &str) -> PathBuf {
     exr.with_file_name(format!("{}.{name}.csv", file_stem(exr)))
 }
 
-/// Measures the scene's `[[sensor]]`s and writes each one's CSV beside the image, and for a
+/// Measures the `[[sensor]]`s of `desc` in its compiled `scene` (the render's own, `--masking`
+/// included) and writes each one's CSV beside the image, and for a
 /// grid of more than one meter its false-colour map `<stem>.<name>.png` (plan view: the first
 /// side to the right, the second side up).
 fn write_sensors(
     desc: &quasar_importers::SceneDesc,
+    scene: &quasar::core::scene::Scene,
     exr: &std::path::Path,
     seed: u64,
     scale: ColourScale,
     quiet: bool,
 ) -> Result<()> {
-    let scene = quasar::core::scene::Scene::compile(desc)?;
     for sensor in &desc.sensors {
-        let reading = quasar::render::sensors::measure(&scene, sensor, seed ^ 0x5e45_0125);
+        let reading = quasar::render::sensors::measure(scene, sensor, seed ^ 0x5e45_0125);
         let path = sensor_csv_path(exr, &sensor.name);
         quasar::output::atomic::write_atomic_bytes(&path, reading.csv().as_bytes())?;
         if !quiet {

@@ -113,7 +113,7 @@ pub struct Scene {
     /// Radius of the bounding sphere.
     pub radius: f32,
     /// Microfacet masking-shadowing form of the GGX materials.
-    pub masking: quasar_materials::Masking,
+    masking: quasar_materials::Masking,
     /// Number of triangles that were dropped because a vertex was not finite or beyond
     /// [`MAX_COORDINATE`], the area is 0, or the triangle repeats another.
     pub dropped_triangles: usize,
@@ -123,6 +123,17 @@ impl Scene {
     /// Compiles a scene description: validates indices, builds the BVH, the lights and the
     /// light-selection distribution.
     pub fn compile(desc: &SceneDesc) -> Result<Self, CompileError> {
+        Self::compile_with_masking(desc, desc.render.masking)
+    }
+
+    /// The microfacet masking-shadowing form of the GGX materials.
+    pub fn masking(&self) -> quasar_materials::Masking {
+        self.masking
+    }
+
+    /// [`compile`](Self::compile) with the GGX materials' masking-shadowing form `masking`
+    /// instead of the scene's (`--masking`).
+    pub fn compile_with_masking(desc: &SceneDesc, masking: quasar_materials::Masking) -> Result<Self, CompileError> {
         let mut tris = Vec::new();
         let mut infos = Vec::new();
         let mut normals = Vec::new();
@@ -314,7 +325,7 @@ impl Scene {
             material_textures: desc.materials.iter().map(|m| TexturedMaterial::new(&m.textures)).collect(),
             center,
             radius,
-            masking: desc.render.masking,
+            masking,
             dropped_triangles: dropped,
         })
     }

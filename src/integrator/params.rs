@@ -39,6 +39,32 @@ pub enum ParamKind {
     Bool,
 }
 
+/// The default of a parameter: the value a method uses without one (typed, from the constant
+/// the method itself reads), or what it computes instead.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ParamDefault {
+    /// This integer.
+    Int(i64),
+    /// This number.
+    Real(f64),
+    /// This boolean.
+    Bool(bool),
+    /// Computed by the method from the scene or the render; the text says how.
+    Computed(&'static str),
+}
+
+impl fmt::Display for ParamDefault {
+    /// The value as a scene file writes it (`4`, `0.75`, `false`), or the text of a computed one.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Int(i) => write!(f, "{i}"),
+            Self::Real(x) => write!(f, "{x}"),
+            Self::Bool(b) => write!(f, "{b}"),
+            Self::Computed(text) => f.write_str(text),
+        }
+    }
+}
+
 /// One method parameter.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ParamSpec {
@@ -48,8 +74,9 @@ pub struct ParamSpec {
     pub flag: &'static str,
     /// Type and range.
     pub kind: ParamKind,
-    /// The default, as documentation ("one per pixel").
-    pub default: &'static str,
+    /// The default: the method's own constant, or what it computes without a value (the
+    /// documentation, the help and a checkpoint's resume key state it).
+    pub default: ParamDefault,
     /// What it does.
     pub doc: &'static str,
 }

@@ -7,7 +7,7 @@ use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
 
 use super::direct::{PendingLight, PrevVertex, emitted_at_hit, escaped_radiance, sample_light};
 use super::entry::{Built, MethodEntry};
-use super::params::{ParamKind, ParamSpec};
+use super::params::{ParamDefault, ParamKind, ParamSpec};
 use super::per_pixel::PerPixel;
 use super::scatter::scatter;
 use crate::core::geometry::Ray;
@@ -35,7 +35,7 @@ pub static MAX_DEPTH: ParamSpec = ParamSpec {
     key: "max_depth",
     flag: "max-depth",
     kind: ParamKind::Int { min: 0, max: 1_000_000 },
-    default: "pt: unbounded, Russian roulette ends paths; direct: 16",
+    default: ParamDefault::Computed("pt: unbounded, Russian roulette ends paths; direct: 16"),
     doc: "maximum number of scattering events per path (direct: of the specular chain before the first non-specular vertex)",
 };
 

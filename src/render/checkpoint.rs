@@ -5,7 +5,7 @@
 //! uninterrupted render gives (every pixel sums its units in index order, and each unit depends
 //! only on its index and the method's state).
 //!
-//! Format (little-endian): magic `QSRCKPT4`, the resume key (count u64, then per setting its name
+//! Format (little-endian): magic [`MAGIC`] (`QSRCKPT5`), the resume key (count u64, then per setting its name
 //! and value, each as length u64 and UTF-8 bytes), width u32,
 //! height u32, done u32, pixel count u64, then per pixel 12 f64 layer sums, y_sq f64, 4 f64
 //! layer y_sq, samples u64, rejected u64; then the block batch statistics: level count u64
@@ -19,7 +19,8 @@ use crate::core::bytes::{ByteReader, ByteWriter};
 use crate::core::sampling::mix64;
 use crate::film::{BlockBatches, Film, N_LAYERS, N_QUANTITIES, PixelSum, SpectralBins};
 
-const MAGIC: &[u8; 8] = b"QSRCKPT5";
+/// The first bytes of a checkpoint: the format and its version (a new layout, a new version).
+pub const MAGIC: &[u8; 8] = b"QSRCKPT5";
 
 /// What a render has accumulated so far.
 #[derive(Clone, Debug, PartialEq)]

@@ -2,6 +2,7 @@
 //! checkpoint format, and the job that takes a scene file to an image.
 
 pub mod aovs;
+pub mod assemble;
 pub mod checkpoint;
 pub mod default_light;
 pub mod driver;
@@ -9,5 +10,8 @@ pub mod header;
 pub mod interrupt;
 pub mod job;
 pub mod memory;
+pub mod overrides;
 pub mod pilot;
+pub mod prepare;
+pub mod run;
 pub mod sensors;

@@ -12,16 +12,16 @@
 //! | `alpha` | x | x | x | x | radius reduction alpha (default 0.75) |
 
 use super::passes::Bidirectional;
-use super::settings::{GatherDepth, MAX_ADAPTIVE_DEPTH, VismapSettings};
+use super::settings::{DEFAULT_ALPHA, DEFAULT_RADIUS_PIXELS, GatherDepth, MAX_ADAPTIVE_DEPTH, VismapSettings};
 use crate::integrator::entry::{Build, Built, MethodEntry};
-use crate::integrator::params::{ParamError, ParamKind, ParamReader, ParamSpec};
+use crate::integrator::params::{ParamDefault, ParamError, ParamKind, ParamReader, ParamSpec};
 
 /// `iterations`.
 pub static ITERATIONS: ParamSpec = ParamSpec {
     key: "iterations",
     flag: "iterations",
     kind: ParamKind::Int { min: 1, max: u32::MAX as i128 },
-    default: "the scene's spp",
+    default: ParamDefault::Computed("the scene's spp"),
     doc: "number of iterations",
 };
 /// `photons_per_iteration`.
@@ -29,7 +29,7 @@ pub static PHOTONS: ParamSpec = ParamSpec {
     key: "photons_per_iteration",
     flag: "photons-per-iteration",
     kind: ParamKind::Int { min: 1, max: 1 << 32 },
-    default: "two per pixel",
+    default: ParamDefault::Computed("two per pixel"),
     doc: "photons traced per iteration",
 };
 /// `gather_depth`.
@@ -37,7 +37,7 @@ pub static GATHER_DEPTH: ParamSpec = ParamSpec {
     key: "gather_depth",
     flag: "gather-depth",
     kind: ParamKind::Int { min: 0, max: 64 },
-    default: "0",
+    default: ParamDefault::Int(0),
     doc: "non-specular camera-path vertex where photons are gathered (0 = first)",
 };
 /// `max_gather_depth`.
@@ -45,7 +45,7 @@ pub static MAX_GATHER_DEPTH: ParamSpec = ParamSpec {
     key: "max_gather_depth",
     flag: "max-gather-depth",
     kind: ParamKind::Int { min: 0, max: MAX_ADAPTIVE_DEPTH as i128 },
-    default: "4",
+    default: ParamDefault::Int(DEFAULT_MAX_GATHER_DEPTH as i64),
     doc: "deepest gather depth considered",
 };
 /// `adaptive_paper`.
@@ -53,7 +53,7 @@ pub static ADAPTIVE_PAPER: ParamSpec = ParamSpec {
     key: "adaptive_paper",
     flag: "adaptive-paper",
     kind: ParamKind::Bool,
-    default: "false",
+    default: ParamDefault::Bool(false),
     doc: "choose the depth from the iteration's own first ray (the paper's variant; biased) instead of earlier iterations' pilot paths",
 };
 /// `cone_deg`.
@@ -61,7 +61,7 @@ pub static CONE: ParamSpec = ParamSpec {
     key: "cone_deg",
     flag: "cone",
     kind: ParamKind::Real { min: 0.0, max: 90.0 },
-    default: "10",
+    default: ParamDefault::Real(DEFAULT_CONE_DEG as f64),
     doc: "half-angle in degrees of the quasi-specular cone",
 };
 /// `radius`.
@@ -69,7 +69,7 @@ pub static RADIUS: ParamSpec = ParamSpec {
     key: "radius",
     flag: "radius",
     kind: ParamKind::Length,
-    default: "automatic (3 pixel footprints, shrunk where photons are dense)",
+    default: ParamDefault::Computed("automatic (3 pixel footprints, shrunk where photons are dense)"),
     doc: "initial gather radius, in the scene file's length units on the command line as in its `[render]` table (a TOML scene's `units`; metres for the other formats)",
 };
 /// `radius_pixels`.
@@ -77,7 +77,7 @@ pub static RADIUS_PIXELS: ParamSpec = ParamSpec {
     key: "radius_pixels",
     flag: "radius-pixels",
     kind: ParamKind::Real { min: 0.01, max: 1000.0 },
-    default: "3",
+    default: ParamDefault::Real(DEFAULT_RADIUS_PIXELS as f64),
     doc: "automatic initial gather radius in pixel footprints at the first non-specular vertex (without --radius)",
 };
 /// `alpha`.
@@ -85,7 +85,7 @@ pub static ALPHA: ParamSpec = ParamSpec {
     key: "alpha",
     flag: "alpha",
     kind: ParamKind::Real { min: 0.0, max: 1.0 },
-    default: "0.75",
+    default: ParamDefault::Real(DEFAULT_ALPHA as f64),
     doc: "radius reduction alpha of progressive photon mapping",
 };
 
@@ -176,3 +176,32 @@ pub static ADAPTIVE_QUASI: MethodEntry = MethodEntry {
     bytes_per_pixel: BIDIR_BYTES_PER_PIXEL,
     build: |b, r| build(b, r, true, true),
 };
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::integrator::params::MethodParams;
+
+    /// The typed defaults of the parameter table are what the methods use without a value.
+    #[test]
+    fn typed_defaults_are_the_settings_without_values() {
+        let params = MethodParams::default();
+        let r = ParamReader::new(&params);
+        let s = settings(&r, true, true, 8).unwrap();
+        let real = |d: ParamDefault| match d {
+            ParamDefault::Real(x) => x,
+            other => panic!("{other:?} is not a number"),
+        };
+        assert_eq!(f64::from(s.alpha), real(ALPHA.default));
+        assert_eq!(f64::from(s.radius_pixels), real(RADIUS_PIXELS.default));
+        assert_eq!(s.cone_deg.map(f64::from), Some(real(CONE.default)));
+        assert_eq!(s.depth, GatherDepth::Adaptive { max_depth: 4, paper: false });
+        assert_eq!(
+            (MAX_GATHER_DEPTH.default, ADAPTIVE_PAPER.default),
+            (ParamDefault::Int(4), ParamDefault::Bool(false))
+        );
+        let fixed = settings(&r, false, false, 8).unwrap();
+        assert_eq!((fixed.depth, GATHER_DEPTH.default), (GatherDepth::Fixed(0), ParamDefault::Int(0)));
+        assert_eq!(fixed.iterations, 8);
+    }
+}

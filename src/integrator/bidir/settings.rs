@@ -59,7 +59,7 @@ impl Default for VismapSettings {
             depth: GatherDepth::Fixed(0),
             cone_deg: None,
             radius: None,
-            radius_pixels: 3.0,
+            radius_pixels: DEFAULT_RADIUS_PIXELS,
             caustic_ratio: 0.5,
             alpha: DEFAULT_ALPHA,
             max_specular: 64,
@@ -75,6 +75,10 @@ impl Default for VismapSettings {
 /// both N^-2/3) needs longer renders than any measured to pay off; 0.75's bias still decays as
 /// N^-1/4, faster than 0.8's N^-1/5, beyond where a reference can check it.
 pub const DEFAULT_ALPHA: f32 = 0.75;
+
+/// The default automatic initial gather radius, in pixel footprints at the first non-specular
+/// vertex (`radius_pixels`).
+pub const DEFAULT_RADIUS_PIXELS: f32 = 3.0;
 
 /// Most depths an adaptive histogram tracks (0..=MAX_ADAPTIVE_DEPTH).
 pub const MAX_ADAPTIVE_DEPTH: u32 = 7;
