@@ -8,6 +8,7 @@ use std::path::Path;
 /// The generated sections: (document, section name, its text from the code's table).
 fn sections() -> Vec<(&'static str, &'static str, String)> {
     vec![
+        ("README.md", "methods", quasar::tools::doc_tables::methods_table()),
         ("README.md", "output channels", quasar::tools::doc_tables::outputs_table()),
         ("README.md", "header entries", quasar::tools::doc_tables::header_table()),
         ("docs/scene-format.md", "render keys", quasar::tools::doc_tables::render_keys_table()),
