@@ -303,7 +303,13 @@ pub fn import_obj(path: &Path, opts: &ImportOptions, materials: ObjMaterials) ->
                     _ => (grey_diffuse(), None, source),
                 };
                 scene_mats.push(SceneMaterial {
-                    desc: MaterialDesc { name: u.name.clone(), material, textures: Default::default(), source },
+                    desc: MaterialDesc {
+                        name: u.name.clone(),
+                        material,
+                        absorption: None,
+                        textures: Default::default(),
+                        source,
+                    },
                     emission,
                 });
                 scene_index.insert(u.name.clone(), scene_mats.len() - 1);
@@ -345,6 +351,7 @@ pub fn import_obj(path: &Path, opts: &ImportOptions, materials: ObjMaterials) ->
                     desc: MaterialDesc {
                         name,
                         material: grey_diffuse(),
+                        absorption: None,
                         textures: Default::default(),
                         source: SourceLocation { file: path.to_owned(), line: None, item: None },
                     },

@@ -22,6 +22,9 @@ pub struct MaterialDesc {
     pub name: String,
     /// The model and its parameters.
     pub material: Material,
+    /// The absorption of the medium inside a transmitting material (the side its surfaces'
+    /// geometric normals point away from), None for a clear one.
+    pub absorption: Option<quasar_materials::Absorption>,
     /// Textures that modulate the material's parameters (glTF); empty for untextured materials.
     pub textures: MaterialTextures,
     /// Where it was defined.

@@ -4,6 +4,7 @@
 //! wavelengths of a path; integrators only call the BSDF's `f`, `sample_f` and `pdf`.
 #![warn(missing_docs)]
 
+pub mod absorption;
 pub mod bsdf;
 pub mod frame;
 pub mod material;
@@ -14,6 +15,7 @@ pub mod tabulated;
 pub mod tabulation;
 pub mod warp;
 
+pub use absorption::Absorption;
 pub use bsdf::microfacet::Masking;
 pub use bsdf::{Bsdf, BsdfSample, Lobe, TabulatedBsdf, TransportMode};
 pub use frame::Frame;

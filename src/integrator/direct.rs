@@ -6,6 +6,7 @@ use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
 use quasar_materials::{Bsdf, TransportMode};
 
 use crate::core::light::Light;
+use crate::core::medium::MediumStack;
 use crate::core::sampling::{Sampler, power_heuristic};
 use crate::core::scene::{Scene, SurfaceInteraction};
 use crate::film::{LayeredRadiance, PathClass};
@@ -57,6 +58,18 @@ pub struct UnshadowedLight {
 }
 
 impl UnshadowedLight {
+    /// This sample with its segment inside the media `media` (those the path is in once it
+    /// leaves the vertex towards the light, [`MediumStack::after`]): the contribution times the
+    /// Beer-Lambert transmittance of the innermost one over the segment (0 over an infinite
+    /// segment in an absorbing medium).
+    #[inline(always)]
+    pub fn through(mut self, media: &MediumStack, scene: &Scene, wl: &SampledWavelengths) -> Self {
+        if let Some(t) = media.transmittance(scene, self.shadow.t_max, wl) {
+            self.contribution *= t;
+        }
+        self
+    }
+
     /// This sample as a path's: its contribution times the path throughput `beta`, for layer
     /// `class` of the path's sums.
     #[inline(always)]

@@ -14,6 +14,7 @@ use super::per_pixel::{PerPixel, PixelEstimator};
 use super::pt::MAX_DEPTH;
 use super::scatter::scatter;
 use crate::core::geometry::Ray;
+use crate::core::medium::MediumStack;
 use crate::core::sampling::Sampler;
 use crate::core::scene::Scene;
 use crate::film::{LayeredRadiance, PathClass};
@@ -55,8 +56,15 @@ impl PixelEstimator for DirectLighting {
         let mut beta = quasar_materials::spectrum::SampledSpectrum::one();
         let mut prev = PrevVertex::eye(ray.origin);
         let class = PathClass::default();
+        let mut media = MediumStack::default();
+        // Beer-Lambert absorption of a segment of length t inside the innermost medium
+        let absorbed = |media: &MediumStack, t: f32, wl: &SampledWavelengths| {
+            media.transmittance(scene, t, wl).unwrap_or(quasar_materials::spectrum::SampledSpectrum::one())
+        };
         for _ in 0..=self.max_specular {
-            let Some(si) = scene.intersect(&ray) else {
+            let hit = scene.intersect(&ray);
+            beta *= absorbed(&media, hit.as_ref().map_or(f32::INFINITY, |h| h.t), wl);
+            let Some(si) = hit else {
                 out.add(class, beta * escaped_radiance(scene, &prev, ray.dir, wl));
                 break;
             };
@@ -71,12 +79,16 @@ impl PixelEstimator for DirectLighting {
                 // the light sample's shadow ray just before the BSDF sample's ray, as in `pt`
                 // (docs/architecture.md §7.2)
                 if let Some(l) = light {
-                    l.for_path(beta, class.scattered(false)).resolve(scene, &mut out);
+                    let through = media.after(scene, &si, wo, l.shadow.dir);
+                    l.through(&through, scene, wl).for_path(beta, class.scattered(false)).resolve(scene, &mut out);
                 }
                 // the BSDF-sampling half of MIS: one segment, emitters only
                 if let Some(sc) = sc {
                     let next = PrevVertex { p: si.p, pdf: sc.bs.pdf };
-                    let le = match scene.intersect(&si.spawn_ray(sc.wi)) {
+                    let hit = scene.intersect(&si.spawn_ray(sc.wi));
+                    let t =
+                        absorbed(&media.after(scene, &si, wo, sc.wi), hit.as_ref().map_or(f32::INFINITY, |h| h.t), wl);
+                    let le = t * match hit {
                         Some(hit) => emitted_at_hit(scene, &hit, -sc.wi, &next, wl),
                         None => escaped_radiance(scene, &next, sc.wi, wl),
                     };
@@ -87,6 +99,7 @@ impl PixelEstimator for DirectLighting {
             let Some(sc) = scatter(&bsdf, &si, &frame, wo, wo_local, TransportMode::Radiance, sampler) else { break };
             beta *= sc.weight();
             prev = PrevVertex { p: si.p, pdf: f32::INFINITY };
+            media = media.after(scene, &si, wo, sc.wi);
             ray = si.spawn_ray(sc.wi);
         }
         out

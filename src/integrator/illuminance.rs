@@ -51,6 +51,8 @@ pub fn illuminance_sample(
             prev: PrevVertex { p, pdf: sc.bs.pdf },
             eta_scale: 1.0,
             depth: 1,
+            // a meter stands outside every medium
+            media: Default::default(),
         };
         let mut out = LayeredRadiance::default();
         trace(scene, si.spawn_ray(sc.wi), state, wl, sampler, &PtSettings::default(), &mut out);

@@ -11,6 +11,7 @@ use super::params::{ParamDefault, ParamKind, ParamSpec};
 use super::per_pixel::PerPixel;
 use super::scatter::scatter;
 use crate::core::geometry::Ray;
+use crate::core::medium::MediumStack;
 use crate::core::sampling::Sampler;
 use crate::core::scene::Scene;
 use crate::film::{LayeredRadiance, PathClass};
@@ -48,18 +49,33 @@ pub static PT: MethodEntry = MethodEntry {
     bytes_per_pixel: super::per_pixel::PER_PIXEL_BYTES_PER_PIXEL,
     build: |b, r| {
         let settings = PtSettings { max_depth: r.int(&MAX_DEPTH)?.map(|d| d as u32), ..PtSettings::default() };
-        Ok(Built { method: Box::new(PerPixel::new(b.scene, b.camera, settings, b.seed, b.shard, b.isa)), units: b.spp })
+        // the kernels of a scene without absorbing media do no media bookkeeping at all
+        Ok(Built {
+            method: if b.scene.has_media() {
+                Box::new(PerPixel::new(b.scene, b.camera, PathTracer::<true>(settings), b.seed, b.shard, b.isa))
+            } else {
+                Box::new(PerPixel::new(b.scene, b.camera, PathTracer::<false>(settings), b.seed, b.shard, b.isa))
+            },
+            units: b.spp,
+        })
     },
 };
 
-impl super::per_pixel::PixelEstimator for PtSettings {
+/// `pt`'s per-pixel estimator, compiled with the absorbing media tracked (`MEDIA`: the scene
+/// has some) or without a trace of them.
+#[derive(Clone, Copy, Debug)]
+pub struct PathTracer<const MEDIA: bool>(pub PtSettings);
+
+impl<const MEDIA: bool> super::per_pixel::PixelEstimator for PathTracer<MEDIA> {
     #[inline(always)]
     fn radiance(&self, scene: &Scene, ray: Ray, wl: &mut SampledWavelengths, sampler: &mut Sampler) -> LayeredRadiance {
-        radiance(scene, ray, wl, sampler, self)
+        let mut out = LayeredRadiance::default();
+        trace_in::<MEDIA>(scene, ray, PathState::eye(ray.origin), wl, sampler, &self.0, &mut out);
+        out
     }
 
     fn header(&self) -> Vec<(String, String)> {
-        vec![("max_depth".into(), self.max_depth.map_or("unbounded".into(), |d| d.to_string()))]
+        vec![("max_depth".into(), self.0.max_depth.map_or("unbounded".into(), |d| d.to_string()))]
     }
 }
 
@@ -93,6 +109,8 @@ pub struct PathState {
     pub eta_scale: f32,
     /// Scattering events so far.
     pub depth: u32,
+    /// The absorbing media the path is inside (`core::medium`).
+    pub media: MediumStack,
 }
 
 impl PathState {
@@ -104,23 +122,9 @@ impl PathState {
             prev: PrevVertex::eye(origin),
             eta_scale: 1.0,
             depth: 0,
+            media: MediumStack::default(),
         }
     }
-}
-
-/// Traces one camera path and returns its layered radiance at the (possibly terminated)
-/// wavelengths `wl`.
-#[inline(always)]
-pub fn radiance(
-    scene: &Scene,
-    ray: Ray,
-    wl: &mut SampledWavelengths,
-    sampler: &mut Sampler,
-    settings: &PtSettings,
-) -> LayeredRadiance {
-    let mut out = LayeredRadiance::default();
-    trace(scene, ray, PathState::eye(ray.origin), wl, sampler, settings, &mut out);
-    out
 }
 
 /// Continues a path in `state` along `ray` as the path tracer does (NEE + MIS at every
@@ -131,6 +135,41 @@ pub fn radiance(
 #[inline(always)]
 pub fn trace(
     scene: &Scene,
+    ray: Ray,
+    state: PathState,
+    wl: &mut SampledWavelengths,
+    sampler: &mut Sampler,
+    settings: &PtSettings,
+    out: &mut LayeredRadiance,
+) {
+    // a scene without absorbing media runs the loop without their bookkeeping (the same code
+    // as before media existed: `pt` costs what it did)
+    if scene.has_media() {
+        trace_with_media(scene, ray, state, wl, sampler, settings, out)
+    } else {
+        trace_in::<false>(scene, ray, state, wl, sampler, settings, out)
+    }
+}
+
+/// [`trace`] in a scene with absorbing media: out of line, so that the kernels of scenes
+/// without them hold one copy of the loop.
+#[inline(never)]
+fn trace_with_media(
+    scene: &Scene,
+    ray: Ray,
+    state: PathState,
+    wl: &mut SampledWavelengths,
+    sampler: &mut Sampler,
+    settings: &PtSettings,
+    out: &mut LayeredRadiance,
+) {
+    trace_in::<true>(scene, ray, state, wl, sampler, settings, out)
+}
+
+/// [`trace`], with the absorbing media tracked (`MEDIA`) or not.
+#[inline(always)]
+fn trace_in<const MEDIA: bool>(
+    scene: &Scene,
     mut ray: Ray,
     state: PathState,
     wl: &mut SampledWavelengths,
@@ -138,7 +177,7 @@ pub fn trace(
     settings: &PtSettings,
     out: &mut LayeredRadiance,
 ) {
-    let PathState { mut beta, mut class, mut prev, mut eta_scale, mut depth } = state;
+    let PathState { mut beta, mut class, mut prev, mut eta_scale, mut depth, mut media } = state;
     // the last vertex's light sample: its shadow ray is traced just before the path's next
     // ray (the two are independent), and its contribution, times the path throughput, added
     // if the segment is clear, before anything the next ray finds
@@ -147,7 +186,12 @@ pub fn trace(
         if let Some(l) = pending.take() {
             l.resolve(scene, out);
         }
-        let Some(si) = scene.intersect(&ray) else {
+        let hit = scene.intersect(&ray);
+        // the segment's absorption (Beer-Lambert) inside the innermost medium
+        if MEDIA && let Some(t) = media.transmittance(scene, hit.as_ref().map_or(f32::INFINITY, |h| h.t), wl) {
+            beta *= t;
+        }
+        let Some(si) = hit else {
             out.add(class, beta * escaped_radiance(scene, &prev, ray.dir, wl));
             break;
         };
@@ -160,8 +204,10 @@ pub fn trace(
         let frame = si.frame();
         let wo_local = frame.to_local(wo);
         if !bsdf.is_specular() {
-            pending = sample_light(scene, &si, &bsdf, wo_local, wl, sampler, |_| false)
-                .map(|l| l.for_path(beta, class.scattered(false)));
+            pending = sample_light(scene, &si, &bsdf, wo_local, wl, sampler, |_| false).map(|l| {
+                let l = if MEDIA { l.through(&media.after(scene, &si, wo, l.shadow.dir), scene, wl) } else { l };
+                l.for_path(beta, class.scattered(false))
+            });
         }
         let Some(sc) = scatter(&bsdf, &si, &frame, wo, wo_local, TransportMode::Radiance, sampler) else { break };
         let (bs, wi) = (sc.bs, sc.wi);
@@ -174,6 +220,9 @@ pub fn trace(
             eta_scale *= bs.eta * bs.eta;
         }
         prev = PrevVertex { p: si.p, pdf: if bs.specular { f32::INFINITY } else { bs.pdf } };
+        if MEDIA {
+            media = media.after(scene, &si, wo, wi);
+        }
         ray = si.spawn_ray(wi);
         depth += 1;
         if depth >= settings.rr_depth && !russian_roulette(&mut beta, eta_scale, sampler.get_1d()) {

@@ -123,10 +123,31 @@ fn bsdf(name: &str, material: &Material) -> Result<String, String> {
     })
 }
 
+/// The interior medium of a material that absorbs: Mitsuba's `homogeneous` medium of albedo 0
+/// and sigma_t = sigma_a (1/m, on the 1 nm grid; the scene is in metres), at least 1e-7 / m
+/// (Mitsuba 3.9's `volpath` returns NaN where sigma_t is 0; 1e-7 / m changes a metre's
+/// transmittance by 1e-7).
+fn interior_medium(a: &quasar_materials::Absorption) -> String {
+    let lambda: Vec<f32> = (LAMBDA_MIN as u32..=LAMBDA_MAX as u32).map(|l| l as f32).collect();
+    let values: Vec<f32> = lambda
+        .iter()
+        .map(|&l| {
+            a.sigma_a(&quasar_materials::spectrum::SampledWavelengths::from_parts([l; 4], [1.0; 4])).0[0].max(1e-7)
+        })
+        .collect();
+    let sigma = Spectrum::PiecewiseLinear { lambda, values };
+    format!(
+        "<medium name=\"interior\" type=\"homogeneous\"><float name=\"albedo\" value=\"0\"/>{}</medium>",
+        spectrum_tag("sigma_t", &sigma, 1.0)
+    )
+}
+
 /// The Mitsuba scene of `desc` rendered at `width` x `height` with `spp` samples per pixel.
+/// With absorbing media it renders with `volpath`, which traces them (`path` ignores media).
 pub fn export(desc: &SceneDesc, width: u32, height: u32, spp: u32) -> Result<MitsubaScene, String> {
     let mut xml = String::from("<scene version=\"3.0.0\">\n");
-    xml += "<integrator type=\"path\"><integer name=\"max_depth\" value=\"-1\"/></integrator>\n";
+    let integrator = if desc.materials.iter().any(|m| m.absorption.is_some()) { "volpath" } else { "path" };
+    let _ = writeln!(xml, "<integrator type=\"{integrator}\"><integer name=\"max_depth\" value=\"-1\"/></integrator>");
     let c = &desc.camera;
     let near = (1e-4 * (c.target - c.position).length()).min(1e-2);
     let axis = match c.fov_axis {
@@ -180,10 +201,12 @@ pub fn export(desc: &SceneDesc, width: u32, height: u32, spp: u32) -> Result<Mit
             Some(e) => format!("<emitter type=\"area\">{}</emitter>", spectrum_tag("radiance", &e.spectrum, e.scale)),
             None => String::new(),
         };
+        let medium =
+            desc.materials.get(m.material).and_then(|d| d.absorption.as_ref()).map_or(String::new(), interior_medium);
         let _ = writeln!(
             xml,
             "<shape type=\"obj\"><string name=\"filename\" value=\"{file}\"/><boolean name=\"face_normals\" value=\"{}\"/>\
-             <ref id=\"mat{}\"/>{emitter}</shape>",
+             <ref id=\"mat{}\"/>{emitter}{medium}</shape>",
             m.normals.is_none(),
             m.material
         );

@@ -53,6 +53,7 @@ SCENES = [
     "scenes/tests/glossy-directional.toml",
     "scenes/tests/glossy-environment.toml",
     "scenes/tests/tinted-glass.toml",
+    "scenes/tests/absorbing-glass.toml",
 ]
 
 

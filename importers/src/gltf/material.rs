@@ -11,7 +11,7 @@ use crate::names::unique_name;
 use crate::photometric::photometric_scale;
 use crate::scene_desc::{EmissionDesc, MaterialDesc, SourceLocation};
 use crate::texture_desc::MaterialTextures;
-use quasar_materials::{PbrParams, pbr_material};
+use quasar_materials::{Absorption, PbrParams, pbr_material};
 
 /// A converted material with the emission its meshes get.
 pub(super) struct Converted {
@@ -29,12 +29,13 @@ fn finite(v: f32, default: f32) -> f32 {
 }
 
 /// Converts glTF material `m` (`None` = the glTF default material). `taken` tells which names
-/// are already used.
+/// are already used; `metres` is the length of one glTF unit in metres (`--units`).
 pub(super) fn convert(
     m: Option<&gltf::Material<'_>>,
     file: &Path,
     loader: &mut TextureLoader<'_>,
     taken: &dyn Fn(&str) -> bool,
+    metres: f32,
 ) -> Result<Converted, ImportError> {
     let Some(m) = m else {
         // glTF 2.0 section 3.9.6: base colour 1, metallic 1, roughness 1
@@ -44,6 +45,7 @@ pub(super) fn convert(
             desc: MaterialDesc {
                 name: unique_name("gltf-default", taken),
                 material: pbr_material(&p),
+                absorption: None,
                 textures: MaterialTextures::default(),
                 source: SourceLocation { file: file.to_owned(), line: None, item: None },
             },
@@ -79,9 +81,18 @@ pub(super) fn convert(
                 .push(format!("{}: {ptr}: KHR_materials_ior {ior} is not >= 1; 1.5 is used", file.display()));
         }
     }
-    // KHR_materials_volume: no participating media in the core; attenuation and thickness are
-    // ignored (the glass is clear). KHR_materials_specular: the dielectric specular layer is not
-    // modelled (see quasar_materials::pbr), so specular factors do not change the mapped material.
+    // KHR_materials_volume: the medium inside absorbs, white light turning into attenuationColor
+    // over attenuationDistance (world units); thicknessFactor (for thin-walled rendering) and
+    // the thickness texture do not apply to a renderer that traces the volume itself.
+    // KHR_materials_specular: the dielectric specular layer is not modelled (see
+    // quasar_materials::pbr), so specular factors do not change the mapped material.
+    let absorption = m.volume().and_then(|v| {
+        let (c, d) = (v.attenuation_color().map(|c| finite(c, 1.0).clamp(0.0, 1.0)), v.attenuation_distance() * metres);
+        (d.is_finite() && d > 0.0 && c.iter().any(|&x| x < 1.0)).then(|| Absorption::Transmittance {
+            transmittance: Spectrum::rgb_reflectance_interpolated(c),
+            thickness: d,
+        })
+    });
     let mut textures = MaterialTextures::default();
     if let Some(info) = pbr.base_color_texture() {
         textures.base_color = Some(loader.reference(&info, &format!("{ptr}/pbrMetallicRoughness/baseColorTexture"))?);
@@ -128,6 +139,7 @@ pub(super) fn convert(
         desc: MaterialDesc {
             name: unique_name(&base, taken),
             material: pbr_material(&p),
+            absorption,
             textures,
             source: SourceLocation { file: file.to_owned(), line: None, item: Some(ptr) },
         },

@@ -241,7 +241,7 @@ pub fn import_gltf(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Impor
             Some(&i) => i,
             None => {
                 let m = gm.and_then(|i| gltf_materials.get(i));
-                let c = material::convert(m, path, &mut loader, &|n| names.contains(n))?;
+                let c = material::convert(m, path, &mut loader, &|n| names.contains(n), scale)?;
                 names.insert(c.desc.name.clone());
                 materials.push(c.desc);
                 emissions.push(c.emission);
@@ -276,6 +276,7 @@ pub fn import_gltf(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Impor
         materials.push(MaterialDesc {
             name: "gltf-default".into(),
             material: quasar_materials::pbr_material(&Default::default()),
+            absorption: None,
             textures: MaterialTextures::default(),
             source: Default::default(),
         });

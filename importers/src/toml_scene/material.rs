@@ -1,7 +1,9 @@
 //! `[materials.NAME]` tables: `type = "diffuse" | "conductor" | "dielectric"`, or
-//! `file = "x.toml"` for a tabulated BSDF (see `crate::bsdf_file`).
+//! `file = "x.toml"` for a tabulated BSDF (see `crate::bsdf_file`); a transmitting one (a
+//! dielectric or a tabulated BSDF) may absorb inside (`absorption`, or `internal_transmittance`
+//! at a `thickness`).
 
-use quasar_materials::{ConductorFresnel, Ior, Material};
+use quasar_materials::{Absorption, ConductorFresnel, Ior, Material};
 use toml::de::DeValue;
 
 use super::spectrum::{SpectrumUse, spectrum};
@@ -26,11 +28,54 @@ fn alpha(t: &Tbl<'_>) -> Result<f32, ImportError> {
     Ok(t.opt_f32_where("roughness", ">= 0", |r| r >= 0.0)?.map_or(0.0, |r| r * r))
 }
 
-/// Reads the material table `v` named `name`; the result has passed [`Material::validate`].
-pub(crate) fn material(t: &Tbl<'_>) -> Result<Material, ImportError> {
+/// Keys of a transmitting material's interior absorption.
+const ABSORPTION_KEYS: [&str; 3] = ["absorption", "internal_transmittance", "thickness"];
+
+/// The interior absorption of a transmitting material: `absorption` (sigma_a in 1/m, whatever the
+/// scene's units: a number or any spectrum), or `internal_transmittance` (a spectrum in [0, 1])
+/// at `thickness` (a length in the scene's units); None without either.
+fn absorption(t: &Tbl<'_>, unit: f32) -> Result<Option<Absorption>, ImportError> {
+    let doc = t.doc;
+    t.exclusive(&["absorption", "internal_transmittance"])?;
+    let a = if let Some(v) = t.get("absorption") {
+        if t.has("thickness") {
+            return Err(doc.invalid(
+                &t.key_span("thickness"),
+                format!("`{}`: `thickness` goes with `internal_transmittance`, not `absorption` (1/m)", t.path),
+            ));
+        }
+        Absorption::Coefficient(spectrum(doc, v, &t.key_path("absorption"), SpectrumUse::Quantity)?)
+    } else if let Some(v) = t.get("internal_transmittance") {
+        if !t.has("thickness") {
+            return Err(doc.invalid(
+                &v.span(),
+                format!("`{}`: `internal_transmittance` needs the `thickness` it was measured at", t.path),
+            ));
+        }
+        Absorption::Transmittance {
+            transmittance: spectrum(doc, v, &t.key_path("internal_transmittance"), SpectrumUse::Reflectance)?,
+            thickness: super::shape::positive_length(t, "thickness", unit)?,
+        }
+    } else {
+        if t.has("thickness") {
+            return Err(doc.invalid(
+                &t.key_span("thickness"),
+                format!("`{}`: `thickness` needs `internal_transmittance`", t.path),
+            ));
+        }
+        return Ok(None);
+    };
+    a.validate()
+        .map_err(|e| doc.invalid(&t.span, format!("material `{}`: {e}", t.path.trim_start_matches("materials."))))?;
+    Ok(Some(a))
+}
+
+/// Reads the material table `v` named `name` with its interior absorption (lengths in `unit`
+/// metres); the material has passed [`Material::validate`].
+pub(crate) fn material(t: &Tbl<'_>, unit: f32) -> Result<(Material, Option<Absorption>), ImportError> {
     let doc = t.doc;
     if let Some(v) = t.get("file") {
-        t.check_keys(&["file"])?;
+        t.check_keys(&[&["file"][..], &ABSORPTION_KEYS].concat())?;
         let name = crate::toml_reader::string(doc, v, &t.key_path("file"))?;
         let path = doc.resolve(name);
         if !path.is_file() {
@@ -41,7 +86,7 @@ pub(crate) fn material(t: &Tbl<'_>) -> Result<Material, ImportError> {
             ));
         }
         let table = crate::bsdf_file::load_tabulated_bsdf(&path).map_err(|e| e.included_from(doc.place(&v.span())))?;
-        return Ok(Material::Tabulated(table));
+        return Ok((Material::Tabulated(table), absorption(t, unit)?));
     }
     let Some((ty, _)) = t.choice("type", &MATERIAL_TYPES)? else {
         return Err(
@@ -92,7 +137,7 @@ pub(crate) fn material(t: &Tbl<'_>) -> Result<Material, ImportError> {
             Material::Conductor { alpha: alpha(t)?, fresnel, two_sided: t.opt_bool("two_sided")?.unwrap_or(true) }
         }
         _ => {
-            t.check_keys(&["type", "ior", "alpha", "roughness", "transmittance"])?;
+            t.check_keys(&[&["type", "ior", "alpha", "roughness", "transmittance"][..], &ABSORPTION_KEYS].concat())?;
             let v = t.req("ior")?;
             let transmittance = match t.get("transmittance") {
                 Some(v) => Some(spectrum(doc, v, &t.key_path("transmittance"), SpectrumUse::Reflectance)?),
@@ -103,7 +148,8 @@ pub(crate) fn material(t: &Tbl<'_>) -> Result<Material, ImportError> {
     };
     m.validate()
         .map_err(|e| doc.invalid(&t.span, format!("material `{}`: {e}", t.path.trim_start_matches("materials."))))?;
-    Ok(m)
+    let absorbs = if matches!(m, Material::Dielectric { .. }) { absorption(t, unit)? } else { None };
+    Ok((m, absorbs))
 }
 
 /// `ior = 1.5 | "BK7" | { cauchy = [a, b] } | { sellmeier = { b = [...], c = [...] } }`.

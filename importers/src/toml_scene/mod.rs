@@ -230,11 +230,12 @@ impl<'a> Builder<'a> {
         for (k, v) in m.entries() {
             let name: &str = k.get_ref();
             let t = Tbl::of(self.doc, v, format!("materials.{name}"))?;
-            let material = material::material(&t)?;
+            let (material, absorption) = material::material(&t, self.unit)?;
             let source = self.source(&t, name.to_owned());
             let i = self.add_material(MaterialDesc {
                 name: name.to_owned(),
                 material,
+                absorption,
                 textures: Default::default(),
                 source,
             });
@@ -273,7 +274,8 @@ impl<'a> Builder<'a> {
         let name = unique_name("emitter-black", |n| self.by_name.contains_key(n));
         let material = Material::Diffuse { reflectance: Spectrum::Constant(0.0), two_sided: true };
         let source = SourceLocation { file: self.doc.file.to_owned(), line: None, item: None };
-        let i = self.add_material(MaterialDesc { name, material, textures: Default::default(), source });
+        let i =
+            self.add_material(MaterialDesc { name, material, absorption: None, textures: Default::default(), source });
         self.black = Some(i);
         i
     }

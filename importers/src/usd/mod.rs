@@ -142,6 +142,7 @@ impl Materials {
         self.descs.push(MaterialDesc {
             name,
             material: c.material,
+            absorption: None,
             textures: c.textures,
             source: SourceLocation { file: file.to_owned(), line: None, item: Some(key.clone()) },
         });
@@ -160,6 +161,7 @@ impl Materials {
                 reflectance: quasar_materials::spectrum::Spectrum::Constant(0.0),
                 two_sided: true,
             },
+            absorption: None,
             textures: Default::default(),
             source: SourceLocation { file: file.to_owned(), line: None, item: None },
         });

@@ -235,11 +235,20 @@ fn trace_photon(
     // the last hit's arrival, pushed just before the photon's next ray is traced, as a camera
     // path's shadow ray is (docs/architecture.md §7.2; measured faster), still in hit order
     let mut pending: Option<(glam::Vec3, glam::Vec3, Arrival)> = None;
+    // photons leave the lights outside every medium (core::medium)
+    let mut media = crate::core::medium::MediumStack::default();
     for bounce in 0..MAX_BOUNCES {
         if let Some((p, ng, arrival)) = pending.take() {
             pipeline.push(p, ng, arrival, gatherer);
         }
         let Some(si) = scene.intersect(&ray) else { break };
+        // the segment's absorption (Beer-Lambert) inside the innermost medium
+        if let Some(t) = media.transmittance(scene, si.t, &wl) {
+            beta *= t;
+            if beta.is_black() {
+                break;
+            }
+        }
         let bsdf = scene.bsdf_at(&si, &mut wl);
         let wi_photon = -ray.dir;
         // the photon's incidence cosine on the surface it hit (geometric normal)
@@ -281,6 +290,7 @@ fn trace_photon(
             let t = rule.treat(scene, &si, &bsdf, wo_local);
             t.pass_through || in_cone(&t.cone, bs.wi)
         };
+        media = media.after(scene, &si, wi_photon, wi);
         ray = si.spawn_ray(wi);
         if bounce + 1 >= RR_DEPTH {
             // roulette on the throughput relative to the emitted flux

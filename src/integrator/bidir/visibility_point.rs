@@ -8,6 +8,7 @@ use quasar_materials::{Bsdf, Frame, Lobe, NARROW_KAPPA, TransportMode};
 
 use super::quasi_cone::{QuasiCone, in_cone};
 use crate::core::geometry::Ray;
+use crate::core::medium::MediumStack;
 use crate::core::sampling::Sampler;
 use crate::core::scene::{Scene, SurfaceInteraction};
 use crate::film::{LayeredRadiance, PathClass};
@@ -145,7 +146,7 @@ pub struct CameraPathResult {
 /// The BSDF-sampling half of MIS direct light at a gather vertex whose sampled direction left
 /// the continued set C: the one segment is traced and an emitter (or the environment) found there is
 /// weighted against light sampling. Emission reached through a specular surface is not counted:
-/// photons carry it.
+/// photons carry it. The segment lies in `media` (absorbing it attenuates).
 #[allow(clippy::too_many_arguments)]
 fn direct_by_bsdf_sample(
     scene: &Scene,
@@ -153,10 +154,16 @@ fn direct_by_bsdf_sample(
     wi: Vec3,
     pdf: f32,
     weight: SampledSpectrum,
+    media: &MediumStack,
     wl: &SampledWavelengths,
 ) -> SampledSpectrum {
     let prev = PrevVertex { p: si.p, pdf };
-    match scene.intersect(&si.spawn_ray(wi)) {
+    let hit = scene.intersect(&si.spawn_ray(wi));
+    let weight = match media.transmittance(scene, hit.as_ref().map_or(f32::INFINITY, |h| h.t), wl) {
+        Some(t) => weight * t,
+        None => weight,
+    };
+    match hit {
         Some(hit) => weight * emitted_at_hit(scene, &hit, -wi, &prev, wl),
         None => weight * escaped_radiance(scene, &prev, wi, wl),
     }
@@ -195,6 +202,7 @@ pub fn trace_camera_path<'s>(
     let mut pass_through_events = 0u32;
     let mut eta_scale = 1.0f32;
     let mut events = 0u32;
+    let mut media = MediumStack::default();
     // the last vertex's light sample, its shadow ray traced just before the path's next ray, as in
     // `pt` (docs/architecture.md §7.2)
     let mut pending: Option<PendingLight> = None;
@@ -202,7 +210,12 @@ pub fn trace_camera_path<'s>(
         if let Some(l) = pending.take() {
             l.resolve(scene, &mut out);
         }
-        let Some(si) = scene.intersect(&ray) else {
+        let hit = scene.intersect(&ray);
+        // the segment's absorption (Beer-Lambert) inside the innermost medium
+        if let Some(t) = media.transmittance(scene, hit.as_ref().map_or(f32::INFINITY, |h| h.t), &wl) {
+            beta *= t;
+        }
+        let Some(si) = hit else {
             out.add(class, beta * escaped_radiance(scene, &prev, ray.dir, &wl));
             break;
         };
@@ -219,9 +232,14 @@ pub fn trace_camera_path<'s>(
         let narrow = treatment.is_some_and(|t| t.pass_through);
         let cone = treatment.and_then(|t| t.cone);
         let gather = !specular && !narrow && depth == rule.depth;
+        // a light sample's segment lies in the media the path is in once it leaves towards it
+        let light_sample = |sampler: &mut Sampler, wl: &SampledWavelengths| {
+            sample_light(scene, &si, &bsdf, wo_local, wl, sampler, |_| false).map(|l| {
+                l.through(&media.after(scene, &si, wo, l.shadow.dir), scene, wl).for_path(beta, class.scattered(false))
+            })
+        };
         if gather {
-            pending = sample_light(scene, &si, &bsdf, wo_local, &wl, sampler, |_| false)
-                .map(|l| l.for_path(beta, class.scattered(false)));
+            pending = light_sample(sampler, &wl);
             points.push(VisibilityPoint {
                 p: si.p,
                 ng: si.ng,
@@ -236,8 +254,7 @@ pub fn trace_camera_path<'s>(
                 viewer_above: wo.dot(si.ng) > 0.0,
             });
         } else if !specular {
-            pending = sample_light(scene, &si, &bsdf, wo_local, &wl, sampler, |_| false)
-                .map(|l| l.for_path(beta, class.scattered(false)));
+            pending = light_sample(sampler, &wl);
         }
         if specular || narrow {
             pass_through_events += 1;
@@ -250,7 +267,8 @@ pub fn trace_camera_path<'s>(
             if let Some(l) = pending.take() {
                 l.resolve(scene, &mut out);
             }
-            out.add(class.scattered(false), beta * direct_by_bsdf_sample(scene, &si, wi, bs.pdf, weight, &wl));
+            let media = media.after(scene, &si, wo, wi);
+            out.add(class.scattered(false), beta * direct_by_bsdf_sample(scene, &si, wi, bs.pdf, weight, &media, &wl));
             break;
         }
         beta *= weight;
@@ -269,6 +287,7 @@ pub fn trace_camera_path<'s>(
         // covers the whole sphere (inside C too)
         let pdf = if bs.specular { f32::INFINITY } else { bs.pdf };
         prev = PrevVertex { p: si.p, pdf };
+        media = media.after(scene, &si, wo, wi);
         ray = si.spawn_ray(wi);
         if points.len() - first_point >= MAX_POINTS_PER_PATH || pass_through_events > rule.max_specular {
             // the rest of the path as the (unbiased) path tracer: full light sampling at every
@@ -276,7 +295,7 @@ pub fn trace_camera_path<'s>(
             if let Some(l) = pending.take() {
                 l.resolve(scene, &mut out);
             }
-            let state = PathState { beta, class, prev, eta_scale, depth: events };
+            let state = PathState { beta, class, prev, eta_scale, depth: events, media };
             pt::trace(scene, ray, state, &mut wl, sampler, &PtSettings::default(), &mut out);
             break;
         }

@@ -1,0 +1,238 @@
+//! Absorbing media inside transmitting surfaces (issue 49, docs/architecture.md §5): Beer-Lambert
+//! attenuation of every path segment inside, for every method, against the analytic slab; the
+//! medium stack of nested surfaces; every method converging to `pt` where photons cross the
+//! medium; the importers' forms of the absorption.
+
+mod common;
+
+use common::{ALL_QUANTITIES, assert_converges_from, bidir_ov, pt_ov, render_file, write_scene};
+use quasar::film::LUMINANCE;
+use quasar::output::ExrImage;
+use quasar::render::job::JobOverrides;
+
+/// A camera looking along -z at a glass slab between z = -D/2 and D/2 (two quads, normals
+/// outward), under a uniform environment of radiance 1; MATERIALS and SHAPES are replaced.
+const SLAB: &str = r#"
+[render]
+width = 32
+height = 32
+[camera]
+position = [0, 0, 10]
+target = [0, 0, 0]
+fov_deg = 2
+MATERIALS
+SHAPES
+[[light]]
+type = "environment"
+"#;
+
+/// Two quads bounding a slab of material `m` between z = -half and z = half (metres).
+fn slab(m: &str, half: f32) -> String {
+    format!(
+        "[[shape]]\ntype = \"quad\"\ncenter = [0, 0, {half}]\nsize = [4, 4]\nnormal = [0, 0, 1]\nmaterial = \"{m}\"\n\
+         [[shape]]\ntype = \"quad\"\ncenter = [0, 0, {}]\nsize = [4, 4]\nnormal = [0, 0, -1]\nmaterial = \"{m}\"\n",
+        -half
+    )
+}
+
+/// The luminance of the slab under the environment at normal incidence: the reflections and
+/// transmissions of a plate of Fresnel reflectance R at each face and internal transmittance a,
+/// L = R + (1 - R)^2 a / (1 - R a) (1 for a = 1).
+fn slab_luminance(ior: f64, a: f64) -> f64 {
+    let r = ((ior - 1.0) / (ior + 1.0)).powi(2);
+    r + (1.0 - r).powi(2) * a / (1.0 - r * a)
+}
+
+/// The image's mean luminance and its standard error: from the per-pixel errors for the per-pixel
+/// methods, from the whole image's batch statistics (the largest `stderr.block` channel) for the
+/// bidirectional ones, whose pixels share an iteration's wavelengths.
+fn mean_and_error(img: &ExrImage) -> (f64, f64) {
+    let y = img.channel(LUMINANCE).unwrap();
+    let n = y.len() as f64;
+    let mean = y.iter().map(|&v| f64::from(v)).sum::<f64>() / n;
+    let whole = img
+        .channels
+        .iter()
+        .filter(|c| c.name.starts_with("stderr.block"))
+        .max_by_key(|c| c.name.trim_start_matches("stderr.block").parse::<usize>().unwrap_or(0));
+    let se = match whole {
+        Some(c) => f64::from(c.values[0]),
+        None => img.channel("stderr.Y").unwrap().iter().map(|&s| f64::from(s).powi(2)).sum::<f64>().sqrt() / n,
+    };
+    (mean, se)
+}
+
+fn ov(method: &str) -> JobOverrides {
+    let ov = JobOverrides { spp: Some(64), seed: Some(3), method: Some(method.into()), ..Default::default() };
+    if quasar::integrator::method::find(method).unwrap().params.iter().any(|p| p.key == "photons_per_iteration") {
+        ov.with_param("photons_per_iteration", 1000u32)
+    } else {
+        ov
+    }
+}
+
+/// A slab of glass (n = 1.5, 2 cm) with sigma_a = 50 / m transmits e^-1 inside; every method
+/// gives the analytic luminance within four standard errors, and the clear slab gives 1.
+#[test]
+fn an_absorbing_slab_follows_beer_lambert_for_every_method() {
+    for (absorption, a) in [("absorption = 50", (-1.0f64).exp()), ("", 1.0)] {
+        let materials = format!("[materials.glass]\ntype = \"dielectric\"\nior = 1.5\n{absorption}\n");
+        let scene = write_scene(&SLAB.replace("MATERIALS", &materials).replace("SHAPES", &slab("glass", 0.01)), &[]);
+        let want = slab_luminance(1.5, a);
+        for method in quasar::integrator::method::METHODS.iter().map(|m| m.name) {
+            let img = render_file(&scene.path, &ov(method)).image;
+            let (mean, se) = mean_and_error(&img);
+            eprintln!("{method} {absorption:?}: {mean:.5} +- {se:.5}, analytic {want:.5}");
+            assert!(
+                se > 0.0 && (mean - want).abs() < 4.0 * se + 1e-4 * want,
+                "{method} {absorption:?}: {mean} +- {se}, analytic {want}"
+            );
+        }
+    }
+}
+
+/// The medium stack: a clear inner slab (index-matched, 1 cm) inside an absorbing one (4 cm,
+/// sigma_a = 25 / m): the path is in the absorbing medium for 3 cm of the 4, before and after the
+/// inner slab; an absorbing inner slab inside a clear one absorbs over its own 1 cm only. Also
+/// the same absorption given as an internal transmittance at a thickness.
+#[test]
+fn nested_media_absorb_where_the_path_is() {
+    let cases = [
+        ("outer", "absorption = 25", "inner", "", (-0.75f64).exp()),
+        ("outer", "", "inner", "absorption = 25", (-0.25f64).exp()),
+        ("outer", "internal_transmittance = 0.5\nthickness = 0.01", "inner", "", 0.5f64.powi(3)),
+    ];
+    for (outer, outer_abs, inner, inner_abs, a) in cases {
+        let materials = format!(
+            "[materials.{outer}]\ntype = \"dielectric\"\nior = 1.5\n{outer_abs}\n[materials.{inner}]\ntype = \"dielectric\"\nior = 1.0\n{inner_abs}\n"
+        );
+        let shapes = slab(outer, 0.02) + &slab(inner, 0.005);
+        let scene = write_scene(&SLAB.replace("MATERIALS", &materials).replace("SHAPES", &shapes), &[]);
+        let img = render_file(&scene.path, &ov("pt")).image;
+        let (mean, se) = mean_and_error(&img);
+        let want = slab_luminance(1.5, a);
+        eprintln!("{outer_abs:?} / {inner_abs:?}: {mean:.5} +- {se:.5}, analytic {want:.5}");
+        assert!(
+            (mean - want).abs() < 4.0 * se + 1e-4 * want,
+            "{outer_abs:?} / {inner_abs:?}: {mean} +- {se}, analytic {want}"
+        );
+    }
+}
+
+/// An absorbing glass sphere on a diffuse floor under a small area light: its shadow and caustic
+/// come from photons and camera paths that cross the medium. Every bidirectional method
+/// converges to `pt`.
+#[test]
+fn every_method_converges_to_pt_through_an_absorbing_sphere() {
+    let scene = write_scene(
+        r#"
+[render]
+width = 40
+height = 30
+[camera]
+position = [0, 1.2, 2.2]
+target = [0, 0.2, 0]
+fov_deg = 40
+[materials.floor]
+type = "diffuse"
+reflectance = 0.6
+[materials.glass]
+type = "dielectric"
+ior = 1.5
+alpha = 0.05
+absorption = { wavelengths = [400, 550, 700], values = [20, 8, 2] }
+[materials.black]
+type = "diffuse"
+reflectance = 0
+[[shape]]
+type = "quad"
+center = [0, 0, 0]
+size = [4, 4]
+normal = [0, 1, 0]
+material = "floor"
+[[shape]]
+type = "sphere"
+center = [0, 0.3, 0]
+radius = 0.3
+subdivisions = 3
+material = "glass"
+[[shape]]
+type = "quad"
+center = [0.3, 1.6, -0.3]
+size = [0.4, 0.4]
+normal = [0, -1, 0]
+material = "black"
+emission = { spectrum = { constant = 1 }, scale = 20 }
+[[light]]
+type = "environment"
+scale = 0.05
+"#,
+        &[],
+    );
+    let reference = render_file(&scene.path, &pt_ov(40, 30, 4096, 101));
+    for method in ["vismap", "adaptive", "quasi", "adaptive+quasi"] {
+        let img = render_file(&scene.path, &bidir_ov(40, 30, method, 256, 20_000, 7));
+        assert!(img.image.channel(LUMINANCE).unwrap().iter().all(|v| v.is_finite()));
+        assert_converges_from(8, method, &img, &reference, &ALL_QUANTITIES[..3]);
+        assert_converges_from(16, method, &img, &reference, &ALL_QUANTITIES[3..]);
+    }
+}
+
+/// Numerical extremes: sigma_a from 1e-6 to 1e6 1/m (and an internal transmittance of 0, the
+/// largest coefficient) give finite images: the slab's analytic luminance within the noise, its
+/// front reflection alone when it is opaque.
+#[test]
+fn extreme_absorption_stays_finite() {
+    for (absorption, a) in [
+        ("absorption = 1e-6", (-2e-8f64).exp()),
+        ("absorption = 1e6", 0.0),
+        ("internal_transmittance = 0\nthickness = 1e-3", 0.0),
+    ] {
+        let materials = format!("[materials.glass]\ntype = \"dielectric\"\nior = 1.5\n{absorption}\n");
+        let scene = write_scene(&SLAB.replace("MATERIALS", &materials).replace("SHAPES", &slab("glass", 0.01)), &[]);
+        for method in ["pt", "adaptive+quasi"] {
+            let img = render_file(&scene.path, &ov(method)).image;
+            assert!(img.channels.iter().all(|c| c.values.iter().all(|v| v.is_finite())), "{method} {absorption:?}");
+            let (mean, se) = mean_and_error(&img);
+            let want = slab_luminance(1.5, a);
+            assert!(
+                (mean - want).abs() < 4.0 * se + 1e-4 * want,
+                "{method} {absorption:?}: {mean} +- {se}, analytic {want}"
+            );
+        }
+    }
+}
+
+/// glTF's `KHR_materials_volume` is the absorption of the transmissive material's inside: white
+/// light turns into `attenuationColor` over `attenuationDistance` (world units, times --units).
+#[test]
+fn gltf_volume_attenuation_is_an_internal_transmittance() {
+    use quasar_importers::gltf::writer::{GltfWriter, Prim};
+    let mut w = GltfWriter::new();
+    w.use_extension("KHR_materials_transmission", false);
+    w.use_extension("KHR_materials_volume", false);
+    let mat = GltfWriter::push(
+        &mut w.materials,
+        r#"{"pbrMetallicRoughness":{"metallicFactor":0},"extensions":{"KHR_materials_transmission":{"transmissionFactor":1},"KHR_materials_volume":{"thicknessFactor":0.1,"attenuationDistance":0.5,"attenuationColor":[0.5,0.8,1.0]}}}"#,
+    );
+    let position = w.positions(&[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+    let indices = Some(w.indices(&[0, 1, 2]));
+    let m = w.mesh("glass", &[Prim { position, indices, material: Some(mat), ..Default::default() }]);
+    let node = GltfWriter::push(&mut w.nodes, &format!(r#"{{"mesh":{m}}}"#));
+    w.roots.push(node);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("glass.glb");
+    std::fs::write(&path, w.to_glb()).unwrap();
+    let opts = quasar_importers::ImportOptions { units_scale: Some(0.01), ..Default::default() };
+    let desc = quasar::render::job::load_scene_with(&path, &opts).unwrap();
+    let Some(quasar_materials::Absorption::Transmittance { transmittance, thickness }) = &desc.materials[0].absorption
+    else {
+        panic!("{:?}", desc.materials[0].absorption);
+    };
+    assert!((thickness - 0.005).abs() < 1e-7, "{thickness}");
+    // the colour of the transmittance (under D65, linear sRGB) is the attenuation colour
+    let rgb = quasar_materials::spectrum::rgb_uplift::reflectance_rgb(|l| transmittance.value(l));
+    for (got, want) in rgb.iter().zip([0.5, 0.8, 1.0]) {
+        assert!((got - want).abs() < 0.01, "{rgb:?}");
+    }
+}
