@@ -562,3 +562,15 @@ fn the_import_summary_counts_prims_drawn_and_skipped() {
     let flat = import("instanced_flat.usdc").import_summary.join("\n");
     assert!(flat.contains("1 not defined (an `over` or `class`)"), "{flat}");
 }
+
+/// Composition arcs besides references and payloads (issue 51, item 3), as Pixar composes them:
+/// a class prim inherited by two prims (its child mesh drawn under each, a local opinion over
+/// the inherited points in one), a prim specializing a class, and an animated asset referenced
+/// with a layer offset (offset 10, scale 2) read at time code 30, the asset's time 10; the
+/// classes themselves are not drawn.
+#[test]
+fn inherits_specializes_and_layer_offsets_compose_as_pixar_does() {
+    let opts = ImportOptions { time_code: Some(30.0), ..Default::default() };
+    let s = import_scene(&fixture("arcs.usda"), &opts).unwrap_or_else(|e| panic!("{e}"));
+    check_meshes(&s, &expected("arcs.usda"));
+}

@@ -486,11 +486,64 @@ def expected_shapes(stage):
     return out
 
 
-def expected(stage, file):
-    """What Pixar's USD computes for `stage`: per rendered mesh its world points (after the up
-    axis and units are applied by quasar: not here), triangles after holes, and the camera."""
-    cache = UsdGeom.XformCache(Usd.TimeCode.EarliestTime())
-    out = {"file": file, "meters_per_unit": UsdGeom.GetStageMetersPerUnit(stage),
+def arcs():
+    """arcs.usda: the composition arcs a DCC export carries besides references: a class prim
+    inherited by two prims (its child mesh drawn under each, one overriding a point), a prim
+    specializing a class (its base's points, then its own opinion on top), and an animated
+    asset referenced with a layer offset (offset 10, scale 2), read at time code 30 (the asset's
+    time 10). The classes themselves are not drawn."""
+    anim = Usd.Stage.CreateNew(path("arcs_anim.usda"))
+    root = UsdGeom.Xform.Define(anim, "/Anim")
+    anim.SetDefaultPrim(root.GetPrim())
+    op = root.AddTranslateOp()
+    op.Set(Gf.Vec3d(0, 0, 0), 0)
+    op.Set(Gf.Vec3d(4, 0, 0), 20)
+    m = UsdGeom.Mesh.Define(anim, "/Anim/Geo")
+    m.CreatePointsAttr([(0, 0, 0), (1, 0, 0), (0, 1, 0)])
+    m.CreateFaceVertexCountsAttr([3])
+    m.CreateFaceVertexIndicesAttr([0, 1, 2])
+    m.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
+    anim.GetRootLayer().Save()
+    stage = Usd.Stage.CreateNew(path("arcs.usda"))
+    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.y)
+    UsdGeom.SetStageMetersPerUnit(stage, 1.0)
+    cls = stage.CreateClassPrim("/_class_Tri")
+    geo = UsdGeom.Mesh.Define(stage, "/_class_Tri/Geo")
+    geo.CreatePointsAttr([(0, 0, 0), (1, 0, 0), (0, 1, 0)])
+    geo.CreateFaceVertexCountsAttr([3])
+    geo.CreateFaceVertexIndicesAttr([0, 1, 2])
+    geo.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
+    UsdGeom.Xform.Define(stage, "/World")
+    for k in range(2):
+        t = UsdGeom.Xform.Define(stage, f"/World/T{k}")
+        t.GetPrim().GetInherits().AddInherit(cls.GetPath())
+        t.AddTranslateOp().Set(Gf.Vec3d(0, 0, 2 * (k + 1)))
+    # a local opinion over the inherited one
+    UsdGeom.Mesh(stage.OverridePrim("/World/T1/Geo")).CreatePointsAttr([(0, 0, 0), (2, 0, 0), (0, 2, 0)])
+    base = stage.CreateClassPrim("/_base_Quad")
+    UsdGeom.Mesh.Define(stage, "/_base_Quad")
+    q = UsdGeom.Mesh(base)
+    q.CreatePointsAttr([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)])
+    q.CreateFaceVertexCountsAttr([4])
+    q.CreateFaceVertexIndicesAttr([0, 1, 2, 3])
+    q.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
+    stage.GetPrimAtPath("/_base_Quad").SetSpecifier(Sdf.SpecifierClass)
+    s1 = stage.DefinePrim("/World/S1", "Mesh")
+    s1.GetSpecializes().AddSpecialize("/_base_Quad")
+    UsdGeom.Xformable(s1).AddTranslateOp().Set(Gf.Vec3d(5, 0, 0))
+    a = stage.DefinePrim("/World/A")
+    a.GetReferences().AddReference("./arcs_anim.usda", layerOffset=Sdf.LayerOffset(10, 2))
+    stage.GetRootLayer().Save()
+    return stage
+
+
+def expected(stage, file, time=None):
+    """What Pixar's USD computes for `stage` at time code `time` (None: the earliest): per rendered
+    mesh its world points (after the up axis and units are applied by quasar: not here),
+    triangles after holes, and the camera."""
+    tc = Usd.TimeCode.EarliestTime() if time is None else Usd.TimeCode(time)
+    cache = UsdGeom.XformCache(tc)
+    out = {"file": file, "time_code": time, "meters_per_unit": UsdGeom.GetStageMetersPerUnit(stage),
            "up_axis": str(UsdGeom.GetStageUpAxis(stage)), "meshes": {}, "cameras": {}, "lights": {}}
     for prim in stage.Traverse():
         img = UsdGeom.Imageable(prim)
@@ -499,7 +552,7 @@ def expected(stage, file):
                 continue
             mesh = UsdGeom.Mesh(prim)
             m = cache.GetLocalToWorldTransform(prim)
-            pts = [list(m.Transform(Gf.Vec3d(p))) for p in mesh.GetPointsAttr().Get(Usd.TimeCode.EarliestTime())]
+            pts = [list(m.Transform(Gf.Vec3d(p))) for p in mesh.GetPointsAttr().Get(tc)]
             counts = list(mesh.GetFaceVertexCountsAttr().Get())
             holes = set(mesh.GetHoleIndicesAttr().Get() or [])
             tris = sum(c - 2 for i, c in enumerate(counts) if i not in holes)
@@ -540,7 +593,8 @@ def expected(stage, file):
 
 if __name__ == "__main__":
     result = [expected(scene(), "scene.usda"), expected(lights(), "lights.usda"), expected(composed(), "composed.usdc"),
-              expected_shapes(shapes()), expected_textures(textures()), usdz(), instanced()]
+              expected_shapes(shapes()), expected_textures(textures()), usdz(), instanced(),
+              expected(arcs(), "arcs.usda", time=30.0)]
     with open(path("expected.json"), "w") as f:
         json.dump(result, f, indent=1, sort_keys=True)
         f.write("\n")
