@@ -574,3 +574,12 @@ fn inherits_specializes_and_layer_offsets_compose_as_pixar_does() {
     let s = import_scene(&fixture("arcs.usda"), &opts).unwrap_or_else(|e| panic!("{e}"));
     check_meshes(&s, &expected("arcs.usda"));
 }
+
+/// Material bindings resolved as Pixar's `ComputeBoundMaterial` does for the render (`full`)
+/// purpose (issue 51, item 3): a parent's strongerThanDescendants binding wins over its child's,
+/// a full-purpose binding over an all-purpose one, a preview-purpose binding is not the render's,
+/// and a collection binding reaches the meshes in the collection only.
+#[test]
+fn material_bindings_resolve_as_pixar_does_for_rendering() {
+    check_meshes(&import("bindings.usda"), &expected("bindings.usda"));
+}

@@ -43,17 +43,52 @@ pub(super) struct Converted {
     pub notes: Vec<String>,
 }
 
-/// The material path bound to `prim` (all-purpose binding), if any.
+/// The material bound to `prim` for rendering, as Pixar's `ComputeBoundMaterial` resolves it for
+/// the `full` purpose, falling back to all-purpose bindings: the closest direct binding up the
+/// namespace, unless an ancestor's is `strongerThanDescendants`. Resolved here rather than by
+/// openusd 0.6, which reads `bindMaterialAs` only as a token (a `.usda` file writes it as a
+/// string, so every binding read as weaker) and resolves only through `MaterialBindingAPI` on
+/// the queried prim. A prim without a direct binding gets its ancestors' collection bindings
+/// from openusd when it carries the API itself; otherwise they are not read (docs/usd.md).
 pub(super) fn bound_material(stage: &Stage, prim: &Prim) -> Option<sdf::Path> {
-    let mut at = Some(prim.path().clone());
-    while let Some(p) = at {
-        if let Ok(Some(api)) = MaterialBindingAPI::get(stage, p.clone()) {
-            return api.compute_bound_material("").ok().flatten();
+    for purpose in [RENDER_PURPOSE, ""] {
+        let mut winner = None;
+        let mut at = Some(prim.path().clone());
+        while let Some(p) = at {
+            if let Ok(Some(api)) = MaterialBindingAPI::get(stage, p.clone())
+                && let Ok(Some(m)) = api.direct_binding(purpose)
+                && (winner.is_none() || stronger_than_descendants(stage, &p, purpose))
+            {
+                winner = Some(m);
+            }
+            at = p.parent();
         }
-        at = p.parent();
+        if winner.is_some() {
+            return winner;
+        }
     }
-    None
+    MaterialBindingAPI::get(stage, prim.path().clone())
+        .ok()
+        .flatten()?
+        .compute_bound_material(RENDER_PURPOSE)
+        .ok()
+        .flatten()
 }
+
+/// Whether the direct binding of `purpose` on the prim at `p` is `strongerThanDescendants`
+/// (its `bindMaterialAs` metadata, a token or a string).
+fn stronger_than_descendants(stage: &Stage, p: &sdf::Path, purpose: &str) -> bool {
+    let rel = if purpose.is_empty() { "material:binding".to_string() } else { format!("material:binding:{purpose}") };
+    let Ok(path) = p.append_property(rel.as_str()) else { return false };
+    match stage.attribute(path).get_metadata::<sdf::Value>("bindMaterialAs") {
+        Ok(Some(sdf::Value::Token(t))) => t.as_str() == "strongerThanDescendants",
+        Ok(Some(sdf::Value::String(s))) => s == "strongerThanDescendants",
+        _ => false,
+    }
+}
+
+/// The material purpose a renderer binds (`full`; `preview` is for viewports).
+const RENDER_PURPOSE: &str = "full";
 
 /// The fallback material of prims without a (readable) material: grey diffuse 0.18, the
 /// UsdPreviewSurface default colour.

@@ -537,10 +537,56 @@ def arcs():
     return stage
 
 
-def expected(stage, file, time=None):
+def bindings():
+    """bindings.usda: material bindings resolved as Pixar's ComputeBoundMaterial for the `full`
+    (render) purpose does: a parent's strongerThanDescendants binding over its child's own, a
+    full-purpose binding over an all-purpose one, a preview-purpose binding ignored, and a
+    binding through a collection (one mesh in it, one not)."""
+    stage = Usd.Stage.CreateNew(path("bindings.usda"))
+    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.y)
+    UsdGeom.SetStageMetersPerUnit(stage, 1.0)
+    mats = {n: preview_material(stage, f"/Looks/{n}", diffuseColor=c)
+            for n, c in [("Red", (0.8, 0.1, 0.1)), ("Green", (0.1, 0.8, 0.1)), ("Blue", (0.1, 0.1, 0.8))]}
+
+    def tri(at, x):
+        m = UsdGeom.Mesh.Define(stage, at)
+        m.CreatePointsAttr([(x, 0, 0), (x + 1, 0, 0), (x, 1, 0)])
+        m.CreateFaceVertexCountsAttr([3])
+        m.CreateFaceVertexIndicesAttr([0, 1, 2])
+        m.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
+        return m.GetPrim()
+
+    UsdGeom.Xform.Define(stage, "/World")
+    strong = UsdGeom.Xform.Define(stage, "/World/Strong").GetPrim()
+    child = tri("/World/Strong/Child", 0)
+    UsdShade.MaterialBindingAPI.Apply(strong).Bind(mats["Red"], bindingStrength=UsdShade.Tokens.strongerThanDescendants)
+    UsdShade.MaterialBindingAPI.Apply(child).Bind(mats["Green"])
+    purpose = tri("/World/Purpose", 2)
+    api = UsdShade.MaterialBindingAPI.Apply(purpose)
+    api.Bind(mats["Red"])
+    api.Bind(mats["Blue"], materialPurpose=UsdShade.Tokens.full)
+    preview = tri("/World/Preview", 4)
+    api = UsdShade.MaterialBindingAPI.Apply(preview)
+    api.Bind(mats["Green"])
+    api.Bind(mats["Red"], materialPurpose=UsdShade.Tokens.preview)
+    coll = UsdGeom.Xform.Define(stage, "/World/Coll").GetPrim()
+    # the member carries MaterialBindingAPI (without a binding of its own): openusd 0.6 resolves
+    # ancestors' collection bindings only for such prims (docs/usd.md)
+    UsdShade.MaterialBindingAPI.Apply(tri("/World/Coll/In", 6))
+    tri("/World/Coll/Out", 8)
+    c = Usd.CollectionAPI.Apply(coll, "glass")
+    c.CreateIncludesRel().AddTarget("/World/Coll/In")
+    UsdShade.MaterialBindingAPI.Apply(coll).Bind(c, mats["Blue"], "glass")
+    stage.GetRootLayer().Save()
+    return stage
+
+
+def expected(stage, file, time=None, purpose=None):
     """What Pixar's USD computes for `stage` at time code `time` (None: the earliest): per rendered
     mesh its world points (after the up axis and units are applied by quasar: not here),
-    triangles after holes, and the camera."""
+    triangles after holes, the material bound for `purpose` (None: all-purpose bindings only),
+    and the camera."""
+    bound = (lambda api: api.ComputeBoundMaterial()) if purpose is None else (lambda api: api.ComputeBoundMaterial(purpose))
     tc = Usd.TimeCode.EarliestTime() if time is None else Usd.TimeCode(time)
     cache = UsdGeom.XformCache(tc)
     out = {"file": file, "time_code": time, "meters_per_unit": UsdGeom.GetStageMetersPerUnit(stage),
@@ -556,12 +602,12 @@ def expected(stage, file, time=None):
             counts = list(mesh.GetFaceVertexCountsAttr().Get())
             holes = set(mesh.GetHoleIndicesAttr().Get() or [])
             tris = sum(c - 2 for i, c in enumerate(counts) if i not in holes)
-            entry = {"world_points": pts, "triangles": tris, "material": str(UsdShade.MaterialBindingAPI(prim).ComputeBoundMaterial()[0].GetPath())}
+            entry = {"world_points": pts, "triangles": tris, "material": str(bound(UsdShade.MaterialBindingAPI(prim))[0].GetPath())}
             subsets = {}
             for sub in UsdShade.MaterialBindingAPI(prim).GetMaterialBindSubsets():
                 faces = list(sub.GetIndicesAttr().Get())
                 subsets[str(sub.GetPath())] = {
-                    "material": str(UsdShade.MaterialBindingAPI(sub.GetPrim()).ComputeBoundMaterial()[0].GetPath()),
+                    "material": str(bound(UsdShade.MaterialBindingAPI(sub.GetPrim()))[0].GetPath()),
                     "triangles": sum(counts[f] - 2 for f in faces if f not in holes),
                 }
             if subsets:
@@ -594,7 +640,7 @@ def expected(stage, file, time=None):
 if __name__ == "__main__":
     result = [expected(scene(), "scene.usda"), expected(lights(), "lights.usda"), expected(composed(), "composed.usdc"),
               expected_shapes(shapes()), expected_textures(textures()), usdz(), instanced(),
-              expected(arcs(), "arcs.usda", time=30.0)]
+              expected(arcs(), "arcs.usda", time=30.0), expected(bindings(), "bindings.usda", purpose="full")]
     with open(path("expected.json"), "w") as f:
         json.dump(result, f, indent=1, sort_keys=True)
         f.write("\n")
