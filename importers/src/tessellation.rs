@@ -213,6 +213,56 @@ pub(crate) fn cylinder(radius: f32, height: f32, segments: u32) -> Tessellation 
     revolve(&profile, segments)
 }
 
+/// A closed truncated cone along Z centred at the origin: radius `bottom` at z = -height/2 and
+/// `top` at +height/2 (a cylinder when they are equal, a cone when one is 0), with flat caps.
+pub(crate) fn frustum(bottom: f32, top: f32, height: f32, segments: u32) -> Tessellation {
+    let h = 0.5 * height;
+    let (down, up) = (Vec2::new(0.0, -1.0), Vec2::Y);
+    // the side's outward normal in the (radial, z) plane
+    let side = Vec2::new(height, bottom - top).normalize();
+    let profile = [
+        (Vec2::new(0.0, -h), down),
+        (Vec2::new(bottom, -h), down),
+        (Vec2::new(bottom, -h), side),
+        (Vec2::new(top, h), side),
+        (Vec2::new(top, h), up),
+        (Vec2::new(0.0, h), up),
+    ];
+    revolve(&profile, segments)
+}
+
+/// A capsule along Z centred at the origin with ends of different radii (USD's `Capsule_1`):
+/// the truncated cone of radius `bottom` at z = -height/2 and `top` at +height/2, closed at each
+/// end by the spherical cap tangent to it there: with the cone's outward normal n = (n_r, n_z)
+/// in the (radial, z) plane, the cap of ring radius r has radius r / n_r and its centre on the
+/// axis where the normal at the ring is n (`rings` bands per cap). Equal radii give hemispheres.
+pub(crate) fn capsule_tapered(bottom: f32, top: f32, height: f32, segments: u32, rings: u32) -> Tessellation {
+    let h = 0.5 * height;
+    let rings = rings.max(2);
+    let n = Vec2::new(height, bottom - top).normalize();
+    // the elevation of the rings' normal
+    let at_ring = n.y.atan2(n.x);
+    let mut profile = Vec::with_capacity(2 * rings as usize + 2);
+    for (ring_z, ring_r, from, to) in [(-h, bottom, -0.5 * PI, at_ring), (h, top, at_ring, 0.5 * PI)] {
+        let radius = ring_r / n.x;
+        let centre = ring_z - radius * n.y;
+        for i in 0..=rings {
+            let t = from + (to - from) * i as f32 / rings as f32;
+            let nrm = Vec2::new(t.cos(), t.sin());
+            // exact zero radius at the poles, exact rings where the cone meets the caps
+            let p = match (i, ring_z < 0.0) {
+                (0, true) => Vec2::new(0.0, centre - radius),
+                (i, false) if i == rings => Vec2::new(0.0, centre + radius),
+                (i, true) if i == rings => Vec2::new(ring_r, ring_z),
+                (0, false) => Vec2::new(ring_r, ring_z),
+                _ => Vec2::new(radius * nrm.x, centre + radius * nrm.y),
+            };
+            profile.push((p, nrm));
+        }
+    }
+    revolve(&profile, segments)
+}
+
 /// The side of a cylinder of `radius` and `height` along Z, centred at the origin (no caps).
 pub(crate) fn cylinder_side(radius: f32, height: f32, segments: u32) -> Tessellation {
     let h = 0.5 * height;

@@ -8,10 +8,11 @@
 //! | `Cylinder` | `radius` (1), `height` (2), `axis` (Z) | closed: side with smooth normals and two flat caps |
 //! | `Cone` | `radius` (1), `height` (2), `axis` (Z) | apex at +height/2 along `axis`, closed by its base |
 //! | `Capsule` | `radius` (0.5), `height` (1, the cylinder part), `axis` (Z) | cylinder with hemispherical ends |
+//! | `Cylinder_1` | `radiusBottom` (1), `radiusTop` (1), `height` (2), `axis` (Z) | closed truncated cone: `radiusBottom` at -height/2, `radiusTop` at +height/2 along `axis` |
+//! | `Capsule_1` | `radiusBottom` (0.5), `radiusTop` (0.5), `height` (1), `axis` (Z) | the truncated cone of `Cylinder_1` closed by the spherical caps tangent to it at each end (Pixar's extent; hemispheres when the radii are equal) |
 //! | `Plane` | `width` (2), `length` (2), `axis` (Z, the normal) | a quad facing +`axis`; width along X (axis Y, Z) or Z (axis X), length along Y (axis X, Z) or Z (axis Y) |
 //!
 //! Round shapes use 64 segments around and keep their true area ([`crate::tessellation`]).
-//! `Cylinder_1`'s `radiusTop` / `radiusBottom` are not read (the `radius` cylinder is made).
 
 use glam::Vec3;
 use openusd::usd::Prim;
@@ -21,7 +22,8 @@ use crate::scene_desc::MeshDesc;
 use crate::tessellation::{self, Tessellation};
 
 /// The implicit shape prim types this module reads.
-pub(super) const SHAPE_TYPES: [&str; 6] = ["Cube", "Sphere", "Cylinder", "Cone", "Capsule", "Plane"];
+pub(super) const SHAPE_TYPES: [&str; 8] =
+    ["Cube", "Sphere", "Cylinder", "Cone", "Capsule", "Plane", "Cylinder_1", "Capsule_1"];
 
 /// Segments around a round shape.
 const SEGMENTS: u32 = 64;
@@ -59,6 +61,21 @@ pub(super) fn read_shape(prim: &Prim, ty: &str, name: String) -> Result<MeshDesc
         }
         "Capsule" => tessellation::capsule(length(prim, "radius", 0.5)?, length(prim, "height", 1.0)?, SEGMENTS, 16)
             .along(axis(prim)?),
+        "Cylinder_1" => tessellation::frustum(
+            length(prim, "radiusBottom", 1.0)?,
+            length(prim, "radiusTop", 1.0)?,
+            length(prim, "height", 2.0)?,
+            SEGMENTS,
+        )
+        .along(axis(prim)?),
+        "Capsule_1" => tessellation::capsule_tapered(
+            length(prim, "radiusBottom", 0.5)?,
+            length(prim, "radiusTop", 0.5)?,
+            length(prim, "height", 1.0)?,
+            SEGMENTS,
+            16,
+        )
+        .along(axis(prim)?),
         _ => {
             let (w, l) = (length(prim, "width", 2.0)?, length(prim, "length", 2.0)?);
             // (width direction, length direction) per normal axis, as Pixar's extents give them

@@ -285,6 +285,22 @@ def shapes():
         pl.CreateWidthAttr(2.0)
         pl.CreateLengthAttr(6.0)
     UsdGeom.Capsule.Define(stage, "/World/CapsuleDefault")
+    # the schemas with two radii (USD 23.11): defaults, and tapered along each axis
+    UsdGeom.Cylinder_1.Define(stage, "/World/Cylinder1Default")
+    UsdGeom.Capsule_1.Define(stage, "/World/Capsule1Default")
+    for k, ax in enumerate("XYZ"):
+        cy = UsdGeom.Cylinder_1.Define(stage, "/World/Cylinder1" + ax)
+        cy.CreateAxisAttr(ax)
+        cy.CreateRadiusBottomAttr(0.4)
+        cy.CreateRadiusTopAttr(0.1)
+        cy.CreateHeightAttr(1.0)
+        cy.AddTranslateOp().Set(Gf.Vec3d(8, 2 * k, 0))
+        ca = UsdGeom.Capsule_1.Define(stage, "/World/Capsule1" + ax)
+        ca.CreateAxisAttr(ax)
+        ca.CreateRadiusBottomAttr(0.5)
+        ca.CreateRadiusTopAttr(0.2)
+        ca.CreateHeightAttr(1.0)
+        ca.AddTranslateOp().Set(Gf.Vec3d(-8, 2 * k, 0))
     rot = UsdGeom.Cone.Define(stage, "/World/ConeTurned")
     rot.AddRotateZOp().Set(90.0)
 
