@@ -583,3 +583,22 @@ fn inherits_specializes_and_layer_offsets_compose_as_pixar_does() {
 fn material_bindings_resolve_as_pixar_does_for_rendering() {
     check_meshes(&import("bindings.usda"), &expected("bindings.usda"));
 }
+
+/// A CAD-style camera (issue 51, item 3): a stage in millimetres with Z up, a 35 mm lens on a
+/// 36 x 24 mm back, placed by a translation and a rotateXYZ: quasar's camera sits at Pixar's
+/// position and looks along Pixar's forward (both turned to Y up and scaled to metres), with
+/// Pixar's field of view and the back's aspect.
+#[test]
+fn millimetre_z_up_cameras_match_pixar() {
+    let s = import("camera_mm.usda");
+    let exp = expected("camera_mm.usda");
+    check_meshes(&s, &exp);
+    let cam = &exp["cameras"]["/World/Cam"];
+    let c = &s.camera;
+    let want = to_quasar(v3(&cam["position"]), true, 0.001);
+    assert!((c.position - want).length() < 1e-5, "{c:?} vs {want}");
+    let forward = to_quasar(v3(&cam["forward"]), true, 1.0);
+    assert!(((c.target - c.position).normalize() - forward).length() < 1e-5, "{c:?} vs {forward}");
+    assert!((c.fov_deg - cam["horizontal_fov_deg"].as_f64().unwrap() as f32).abs() < 1e-3, "{}", c.fov_deg);
+    assert_eq!(s.render.width * 2, s.render.height * 3);
+}

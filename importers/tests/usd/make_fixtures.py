@@ -597,6 +597,28 @@ def bindings():
     return stage
 
 
+def camera_mm():
+    """camera_mm.usda: a CAD-style stage in millimetres with Z up: a 35 mm lens on a 36 x 24 mm
+    back, placed 2 m away by a translation and a rotateXYZ, looking at a 1 m square."""
+    stage = Usd.Stage.CreateNew(path("camera_mm.usda"))
+    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.z)
+    UsdGeom.SetStageMetersPerUnit(stage, 0.001)
+    UsdGeom.Xform.Define(stage, "/World")
+    m = UsdGeom.Mesh.Define(stage, "/World/Square")
+    m.CreatePointsAttr([(-500, -500, 0), (500, -500, 0), (500, 500, 0), (-500, 500, 0)])
+    m.CreateFaceVertexCountsAttr([4])
+    m.CreateFaceVertexIndicesAttr([0, 1, 2, 3])
+    m.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
+    cam = UsdGeom.Camera.Define(stage, "/World/Cam")
+    cam.CreateFocalLengthAttr(35.0)
+    cam.CreateHorizontalApertureAttr(36.0)
+    cam.CreateVerticalApertureAttr(24.0)
+    cam.AddTranslateOp().Set(Gf.Vec3d(600, -1800, 700))
+    cam.AddRotateXYZOp().Set(Gf.Vec3f(70, 0, 18))
+    stage.GetRootLayer().Save()
+    return stage
+
+
 def expected(stage, file, time=None, purpose=None):
     """What Pixar's USD computes for `stage` at time code `time` (None: the earliest): per rendered
     mesh its world points (after the up axis and units are applied by quasar: not here),
@@ -656,7 +678,8 @@ def expected(stage, file, time=None, purpose=None):
 if __name__ == "__main__":
     result = [expected(scene(), "scene.usda"), expected(lights(), "lights.usda"), expected(composed(), "composed.usdc"),
               expected_shapes(shapes()), expected_textures(textures()), usdz(), instanced(),
-              expected(arcs(), "arcs.usda", time=30.0), expected(bindings(), "bindings.usda", purpose="full")]
+              expected(arcs(), "arcs.usda", time=30.0), expected(bindings(), "bindings.usda", purpose="full"),
+              expected(camera_mm(), "camera_mm.usda")]
     with open(path("expected.json"), "w") as f:
         json.dump(result, f, indent=1, sort_keys=True)
         f.write("\n")
