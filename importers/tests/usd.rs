@@ -602,3 +602,18 @@ fn millimetre_z_up_cameras_match_pixar() {
     assert!((c.fov_deg - cam["horizontal_fov_deg"].as_f64().unwrap() as f32).abs() < 1e-3, "{}", c.fov_deg);
     assert_eq!(s.render.width * 2, s.render.height * 3);
 }
+
+/// `MeshLightAPI` (issue 51, item 3): a mesh with it is drawn as Pixar draws it and is an area
+/// light of its own shape, of luminance `intensity` x 2^`exposure` nits in its `color`, divided
+/// by its area with `normalize` (5 x 2 / 2 m^2 here); the plain mesh beside it emits nothing.
+#[test]
+fn mesh_lights_emit_from_their_mesh() {
+    let s = import("meshlight.usda");
+    check_meshes(&s, &expected("meshlight.usda"));
+    let e = mesh(&s, "/World/Panel").emission.as_ref().expect("the MeshLightAPI mesh emits");
+    assert!((e.scale - photometric_scale(10.0) / 2.0).abs() < 1e-6 * e.scale, "{}", e.scale);
+    assert!(!e.two_sided);
+    let orange = quasar_materials::spectrum::Spectrum::rgb_illuminant([1.0, 0.5, 0.25]).unwrap();
+    assert_eq!(e.spectrum, orange);
+    assert!(mesh(&s, "/World/Plain").emission.is_none());
+}

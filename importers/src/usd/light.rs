@@ -19,7 +19,8 @@
 //!
 //! `normalize = true` divides an area light's luminance by its world-space area (the power no
 //! longer depends on the size). `ShapingAPI` `shaping:ies:file` makes any of them but distant
-//! and dome lights a luminaire (`ies_light.rs`, applied by the caller). `GeometryLight` and `PortalLight` are not supported (warning).
+//! and dome lights a luminaire (`ies_light.rs`, applied by the caller). A mesh with `MeshLightAPI`
+//! emits from its front faces ([`mesh_light`]). `GeometryLight` and `PortalLight` are not supported (warning).
 
 use glam::{Affine3A, Vec3};
 use openusd::usd::Prim;
@@ -98,6 +99,21 @@ fn emission(prim: &Prim, default_intensity: f64) -> Result<(f64, Spectrum, Vec<S
         Spectrum::rgb_illuminant(color.to_array()).map_err(|e| ("inputs:color".into(), e.to_string()))?
     };
     Ok((lv, spectrum, notes))
+}
+
+/// The emission of the mesh `m` (in world space) of a prim with `MeshLightAPI`: the light's
+/// luminance (`intensity` x 2^`exposure` nits of `color`, or of its colour temperature) from the
+/// mesh's front faces, divided by the mesh's world area with `normalize`; None without the API.
+pub(super) fn mesh_light(prim: &Prim, m: &MeshDesc) -> Result<Option<EmissionDesc>, AttrError> {
+    if !prim.has_api_schema("MeshLightAPI").unwrap_or(false) {
+        return Ok(None);
+    }
+    let (lv, spectrum, _) = emission(prim, 1.0)?;
+    let mut scale = f64::from(photometric_scale(lv as f32));
+    if input_bool(prim, "normalize")?.unwrap_or(false) && m.area() > 0.0 {
+        scale /= m.area();
+    }
+    Ok(Some(EmissionDesc { spectrum, scale: scale as f32, two_sided: false }))
 }
 
 /// The shape `t` in the light's local space, emitting `scale x spectrum` from its front.

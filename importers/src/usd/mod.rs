@@ -447,6 +447,7 @@ fn import_stage(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportEr
                 m.source = SourceLocation { file: path.to_owned(), line: None, item: Some(name.clone()) };
                 m.name = name;
                 transform_mesh(&mut m, &world_q);
+                m.emission = light::mesh_light(&prim, &m).map_err(|e| attr_err(path, &at, e))?.or(m.emission);
                 if m.positions.iter().any(|p| !p.is_finite()) {
                     return Err(err(
                         ImportErrorKind::InvalidValue,

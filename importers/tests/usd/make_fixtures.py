@@ -619,6 +619,29 @@ def camera_mm():
     return stage
 
 
+def mesh_light():
+    """meshlight.usda: a 2 x 1 quad mesh with MeshLightAPI (intensity 5, exposure 1, an orange
+    colour, normalize), beside a plain quad: the first is an area light of its own shape."""
+    stage = Usd.Stage.CreateNew(path("meshlight.usda"))
+    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.y)
+    UsdGeom.SetStageMetersPerUnit(stage, 1.0)
+    UsdGeom.Xform.Define(stage, "/World")
+    for name, x in [("Panel", 0.0), ("Plain", 3.0)]:
+        m = UsdGeom.Mesh.Define(stage, f"/World/{name}")
+        m.CreatePointsAttr([(x, 0, 0), (x + 2, 0, 0), (x + 2, 1, 0), (x, 1, 0)])
+        m.CreateFaceVertexCountsAttr([4])
+        m.CreateFaceVertexIndicesAttr([0, 1, 2, 3])
+        m.CreateSubdivisionSchemeAttr(UsdGeom.Tokens.none)
+    light = UsdLux.MeshLightAPI.Apply(stage.GetPrimAtPath("/World/Panel"))
+    api = UsdLux.LightAPI(light.GetPrim())
+    api.CreateIntensityAttr(5.0)
+    api.CreateExposureAttr(1.0)
+    api.CreateColorAttr(Gf.Vec3f(1.0, 0.5, 0.25))
+    api.CreateNormalizeAttr(True)
+    stage.GetRootLayer().Save()
+    return stage
+
+
 def expected(stage, file, time=None, purpose=None):
     """What Pixar's USD computes for `stage` at time code `time` (None: the earliest): per rendered
     mesh its world points (after the up axis and units are applied by quasar: not here),
@@ -679,7 +702,7 @@ if __name__ == "__main__":
     result = [expected(scene(), "scene.usda"), expected(lights(), "lights.usda"), expected(composed(), "composed.usdc"),
               expected_shapes(shapes()), expected_textures(textures()), usdz(), instanced(),
               expected(arcs(), "arcs.usda", time=30.0), expected(bindings(), "bindings.usda", purpose="full"),
-              expected(camera_mm(), "camera_mm.usda")]
+              expected(camera_mm(), "camera_mm.usda"), expected(mesh_light(), "meshlight.usda")]
     with open(path("expected.json"), "w") as f:
         json.dump(result, f, indent=1, sort_keys=True)
         f.write("\n")
