@@ -112,6 +112,8 @@ pub fn aov_pass(
     debug_assert!(rows.iter().all(|r| r.producer == Producer::AovPass));
     let wants = |name: &str| rows.iter().any(|r| r.aov == Some(name));
     let want_albedo = wants("albedo");
+    // the per-pixel id lists (a small allocation each) only when an id output reads them
+    let want_ids = ["material_id", "object_id", "crypto_material", "crypto_object"].iter().any(|n| wants(n));
     let (w, h) = (camera.width() as usize, camera.height() as usize);
     let n = samples.max(1);
     let pixels: Vec<PixelAovs> = (0..w * h)
@@ -126,8 +128,10 @@ pub fn aov_pass(
                 px.normal += si.ns;
                 px.normal_geometric += si.ng;
                 px.position += si.p;
-                count(&mut px.materials, si.material, 1);
-                count(&mut px.objects, scene.accel.info[si.prim as usize].mesh, 1);
+                if want_ids {
+                    count(&mut px.materials, si.material, 1);
+                    count(&mut px.objects, scene.accel.info[si.prim as usize].mesh, 1);
+                }
                 if want_albedo {
                     let a = albedo_sample(scene, ray, &mut sampler);
                     for (acc, v) in px.albedo.iter_mut().zip(a) {
