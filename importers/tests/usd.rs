@@ -586,8 +586,8 @@ fn material_bindings_resolve_as_pixar_does_for_rendering() {
 
 /// A CAD-style camera (issue 51, item 3): a stage in millimetres with Z up, a 35 mm lens on a
 /// 36 x 24 mm back, placed by a translation and a rotateXYZ: quasar's camera sits at Pixar's
-/// position and looks along Pixar's forward (both turned to Y up and scaled to metres), with
-/// Pixar's field of view and the back's aspect.
+/// position and looks along Pixar's forward with Pixar's up (turned to Y up and scaled to
+/// metres), with Pixar's field of view and the back's aspect.
 #[test]
 fn millimetre_z_up_cameras_match_pixar() {
     let s = import("camera_mm.usda");
@@ -600,6 +600,10 @@ fn millimetre_z_up_cameras_match_pixar() {
     let forward = to_quasar(v3(&cam["forward"]), true, 1.0);
     assert!(((c.target - c.position).normalize() - forward).length() < 1e-5, "{c:?} vs {forward}");
     assert!((c.fov_deg - cam["horizontal_fov_deg"].as_f64().unwrap() as f32).abs() < 1e-3, "{}", c.fov_deg);
+    // no roll: the image's up is the camera's +Y
+    let up = to_quasar(v3(&cam["up"]), true, 1.0);
+    let image_up = c.up - c.up.dot(forward) * forward;
+    assert!((image_up.normalize() - up).length() < 1e-4, "{c:?} vs up {up}");
     assert_eq!(s.render.width * 2, s.render.height * 3);
 }
 

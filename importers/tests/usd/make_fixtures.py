@@ -680,6 +680,7 @@ def expected(stage, file, time=None, purpose=None):
             out["cameras"][str(prim.GetPath())] = {
                 "position": list(m.Transform(Gf.Vec3d(0, 0, 0))),
                 "forward": list(m.TransformDir(Gf.Vec3d(0, 0, -1)).GetNormalized()),
+                "up": list(m.TransformDir(Gf.Vec3d(0, 1, 0)).GetNormalized()),
                 "horizontal_fov_deg": cam.GetFieldOfView(Gf.Camera.FOVHorizontal),
                 "vertical_fov_deg": cam.GetFieldOfView(Gf.Camera.FOVVertical),
             }
