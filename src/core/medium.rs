@@ -58,6 +58,18 @@ impl MediumStack {
         s
     }
 
+    /// [`transmittance`](Self::transmittance) of a ray's segment to `hit`, infinite when the
+    /// ray escapes (0 then in an absorbing medium).
+    #[inline(always)]
+    pub fn transmittance_to(
+        &self,
+        scene: &Scene,
+        hit: Option<&SurfaceInteraction>,
+        wl: &SampledWavelengths,
+    ) -> Option<SampledSpectrum> {
+        self.transmittance(scene, hit.map_or(f32::INFINITY, |h| h.t), wl)
+    }
+
     /// Beer-Lambert transmittance exp(-sigma_a t) over a segment of length `t` (m) inside the
     /// innermost medium, at wavelengths `wl`; None where the segment does not attenuate (no
     /// medium, or one without absorption).

@@ -57,13 +57,13 @@ impl PixelEstimator for DirectLighting {
         let mut prev = PrevVertex::eye(ray.origin);
         let class = PathClass::default();
         let mut media = MediumStack::default();
-        // Beer-Lambert absorption of a segment of length t inside the innermost medium
-        let absorbed = |media: &MediumStack, t: f32, wl: &SampledWavelengths| {
-            media.transmittance(scene, t, wl).unwrap_or(quasar_materials::spectrum::SampledSpectrum::one())
+        // Beer-Lambert absorption of the segment to `hit` inside the innermost medium
+        let absorbed = |media: &MediumStack, hit: Option<&_>, wl: &SampledWavelengths| {
+            media.transmittance_to(scene, hit, wl).unwrap_or(quasar_materials::spectrum::SampledSpectrum::one())
         };
         for _ in 0..=self.max_specular {
             let hit = scene.intersect(&ray);
-            beta *= absorbed(&media, hit.as_ref().map_or(f32::INFINITY, |h| h.t), wl);
+            beta *= absorbed(&media, hit.as_ref(), wl);
             let Some(si) = hit else {
                 out.add(class, beta * escaped_radiance(scene, &prev, ray.dir, wl));
                 break;
@@ -86,8 +86,7 @@ impl PixelEstimator for DirectLighting {
                 if let Some(sc) = sc {
                     let next = PrevVertex { p: si.p, pdf: sc.bs.pdf };
                     let hit = scene.intersect(&si.spawn_ray(sc.wi));
-                    let t =
-                        absorbed(&media.after(scene, &si, wo, sc.wi), hit.as_ref().map_or(f32::INFINITY, |h| h.t), wl);
+                    let t = absorbed(&media.after(scene, &si, wo, sc.wi), hit.as_ref(), wl);
                     let le = t * match hit {
                         Some(hit) => emitted_at_hit(scene, &hit, -sc.wi, &next, wl),
                         None => escaped_radiance(scene, &next, sc.wi, wl),

@@ -82,8 +82,8 @@ pub struct ParamSpec {
 }
 
 impl ParamSpec {
-    /// The range as text, for errors.
-    fn range(&self) -> String {
+    /// The range as text, for errors and the docs.
+    pub fn range(&self) -> String {
         match self.kind {
             ParamKind::Int { min, max } => format!("an integer in {min}..={max}"),
             ParamKind::Real { min, max } if max.is_infinite() => format!("a number > {min}"),

@@ -145,25 +145,10 @@ pub fn trace(
     // a scene without absorbing media runs the loop without their bookkeeping (the same code
     // as before media existed: `pt` costs what it did)
     if scene.has_media() {
-        trace_with_media(scene, ray, state, wl, sampler, settings, out)
+        trace_in::<true>(scene, ray, state, wl, sampler, settings, out)
     } else {
         trace_in::<false>(scene, ray, state, wl, sampler, settings, out)
     }
-}
-
-/// [`trace`] in a scene with absorbing media: out of line, so that the kernels of scenes
-/// without them hold one copy of the loop.
-#[inline(never)]
-fn trace_with_media(
-    scene: &Scene,
-    ray: Ray,
-    state: PathState,
-    wl: &mut SampledWavelengths,
-    sampler: &mut Sampler,
-    settings: &PtSettings,
-    out: &mut LayeredRadiance,
-) {
-    trace_in::<true>(scene, ray, state, wl, sampler, settings, out)
 }
 
 /// [`trace`], with the absorbing media tracked (`MEDIA`) or not.
@@ -188,7 +173,7 @@ fn trace_in<const MEDIA: bool>(
         }
         let hit = scene.intersect(&ray);
         // the segment's absorption (Beer-Lambert) inside the innermost medium
-        if MEDIA && let Some(t) = media.transmittance(scene, hit.as_ref().map_or(f32::INFINITY, |h| h.t), wl) {
+        if MEDIA && let Some(t) = media.transmittance_to(scene, hit.as_ref(), wl) {
             beta *= t;
         }
         let Some(si) = hit else {

@@ -7,7 +7,6 @@ use quasar_importers::toml_scene::RENDER_KEYS;
 
 use crate::film::outputs::OUTPUTS;
 use crate::integrator::method::{METHODS, all_params, users_of};
-use crate::integrator::params::ParamKind;
 use crate::render::header::{HEADER, HeaderMerge};
 
 /// The README's method table: one line per row of [`METHODS`] with its parameters' flags, and
@@ -61,14 +60,7 @@ pub fn render_keys_table() -> String {
     }
     for p in all_params() {
         let users: Vec<String> = users_of(p.key).iter().map(|m| format!("`{m}`")).collect();
-        let range = match p.kind {
-            ParamKind::Int { min, max } => format!("integer {min}..={max}"),
-            ParamKind::Real { min, max } if max.is_infinite() => format!("number > {min}"),
-            ParamKind::Real { min, max } => format!("number in ({min}, {max})"),
-            ParamKind::Length => "length > 0".into(),
-            ParamKind::Bool => "true or false".into(),
-        };
-        s += &format!("| `{}` | {}: {}, {range} | {} |\n", p.key, users.join(", "), p.doc, p.default);
+        s += &format!("| `{}` | {}: {}, {} | {} |\n", p.key, users.join(", "), p.doc, p.range(), p.default);
     }
     s
 }

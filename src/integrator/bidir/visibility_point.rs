@@ -159,7 +159,7 @@ fn direct_by_bsdf_sample(
 ) -> SampledSpectrum {
     let prev = PrevVertex { p: si.p, pdf };
     let hit = scene.intersect(&si.spawn_ray(wi));
-    let weight = match media.transmittance(scene, hit.as_ref().map_or(f32::INFINITY, |h| h.t), wl) {
+    let weight = match media.transmittance_to(scene, hit.as_ref(), wl) {
         Some(t) => weight * t,
         None => weight,
     };
@@ -212,7 +212,7 @@ pub fn trace_camera_path<'s>(
         }
         let hit = scene.intersect(&ray);
         // the segment's absorption (Beer-Lambert) inside the innermost medium
-        if let Some(t) = media.transmittance(scene, hit.as_ref().map_or(f32::INFINITY, |h| h.t), &wl) {
+        if let Some(t) = media.transmittance_to(scene, hit.as_ref(), &wl) {
             beta *= t;
         }
         let Some(si) = hit else {
