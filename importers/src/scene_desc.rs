@@ -25,6 +25,9 @@ pub struct MaterialDesc {
     /// The absorption of the medium inside a transmitting material (the side its surfaces'
     /// geometric normals point away from), None for a clear one.
     pub absorption: Option<quasar_materials::Absorption>,
+    /// The scattering of that medium (sigma_s and the phase function), None for a medium that
+    /// only absorbs.
+    pub scattering: Option<quasar_materials::Scattering>,
     /// Textures that modulate the material's parameters (glTF); empty for untextured materials.
     pub textures: MaterialTextures,
     /// Where it was defined.

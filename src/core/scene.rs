@@ -114,10 +114,10 @@ pub struct Scene {
     pub radius: f32,
     /// Microfacet masking-shadowing form of the GGX materials.
     masking: quasar_materials::Masking,
-    /// The absorption inside each transmitting material (indexed like `materials`), None for
-    /// clear ones and every material of a scene without media (`core::medium`).
-    absorption: Vec<Option<quasar_materials::Absorption>>,
-    /// Whether any material absorbs inside: paths track their media only then.
+    /// The medium inside each transmitting material (indexed like `materials`), None for clear
+    /// ones (`core::medium`).
+    media: Vec<Option<super::medium::Medium>>,
+    /// Whether any material absorbs or scatters inside: paths track their media only then.
     has_media: bool,
     /// Number of triangles that were dropped because a vertex was not finite or beyond
     /// [`MAX_COORDINATE`], the area is 0, or the triangle repeats another.
@@ -331,22 +331,22 @@ impl Scene {
             center,
             radius,
             masking,
-            absorption: desc.materials.iter().map(|m| m.absorption.as_ref().map(|a| a.densified())).collect(),
-            has_media: desc.materials.iter().any(|m| m.absorption.is_some()),
+            media: desc.materials.iter().map(super::medium::Medium::of).collect(),
+            has_media: desc.materials.iter().any(|m| m.absorption.is_some() || m.scattering.is_some()),
             dropped_triangles: dropped,
         })
     }
 
-    /// Whether any material absorbs inside (paths track their media only then).
+    /// Whether any material absorbs or scatters inside (paths track their media only then).
     #[inline(always)]
     pub fn has_media(&self) -> bool {
         self.has_media
     }
 
-    /// The absorption inside material `m`, if it has one.
+    /// The medium inside material `m`, if it has one.
     #[inline]
-    pub fn absorption(&self, m: u32) -> Option<&quasar_materials::Absorption> {
-        self.absorption.get(m as usize)?.as_ref()
+    pub fn medium(&self, m: u32) -> Option<&super::medium::Medium> {
+        self.media.get(m as usize)?.as_ref()
     }
 
     /// kappa of every material over incidence (indexed like [`Scene::materials`]), tabulated by

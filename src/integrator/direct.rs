@@ -3,7 +3,7 @@
 
 use glam::Vec3;
 use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
-use quasar_materials::{Bsdf, TransportMode};
+use quasar_materials::{Bsdf, HenyeyGreenstein, TransportMode};
 
 use crate::core::light::Light;
 use crate::core::medium::MediumStack;
@@ -117,14 +117,7 @@ pub fn sample_light(
     sampler: &mut Sampler,
     excluded: impl Fn(Vec3) -> bool,
 ) -> Option<UnshadowedLight> {
-    let u_light = sampler.get_u64();
-    let u_point = sampler.get_2d();
-    let (li_index, p_select) = scene.light_sampler.sample(u_light)?;
-    let light = &scene.lights[li_index];
-    let ls = light.sample_li(si.p, u_point, wl, &scene.emissions)?;
-    if ls.pdf <= 0.0 || ls.li.is_black() {
-        return None;
-    }
+    let (ls, p_light) = light_sample_at(scene, si.p, wl, sampler)?;
     let wi_local = si.frame().to_local(ls.wi);
     // a delta light is never excluded: no continued path can hit it (docs/architecture.md §7.5)
     if !ls.delta && excluded(wi_local) {
@@ -135,9 +128,50 @@ pub fn sample_light(
     if f.is_black() {
         return None;
     }
-    let p_light = p_select * ls.pdf;
     let w = if ls.delta { 1.0 } else { power_heuristic(p_light, p_bsdf) };
     Some(UnshadowedLight { shadow: si.spawn_shadow_ray(ls.wi, ls.dist), contribution: f * ls.li * (w / p_light) })
+}
+
+/// Next-event estimation at a scattering point `p` inside a medium, seen from `wo`: as
+/// [`sample_light`], with the phase function in place of the BSDF (its value is its pdf, so the
+/// MIS weight is the power heuristic of the light's pdf against p). The shadow ray's
+/// transmittance is the caller's ([`UnshadowedLight::through`]).
+#[inline]
+pub fn sample_light_in_medium(
+    scene: &Scene,
+    p: Vec3,
+    wo: Vec3,
+    phase: &HenyeyGreenstein,
+    wl: &SampledWavelengths,
+    sampler: &mut Sampler,
+) -> Option<UnshadowedLight> {
+    let (ls, p_light) = light_sample_at(scene, p, wl, sampler)?;
+    let f = phase.eval(wo, ls.wi);
+    let w = if ls.delta { 1.0 } else { power_heuristic(p_light, f) };
+    let mut shadow = crate::core::geometry::Ray::new(p, ls.wi);
+    if ls.dist.is_finite() {
+        shadow.t_max = (ls.dist * (1.0 - 1e-4)).max(0.0);
+    }
+    Some(UnshadowedLight { shadow, contribution: ls.li * (f * w / p_light) })
+}
+
+/// One power-proportional light choice and one point on it, seen from `p`: the sample and
+/// its pdf p_select pdf_light; None where it carries nothing.
+#[inline(always)]
+fn light_sample_at(
+    scene: &Scene,
+    p: Vec3,
+    wl: &SampledWavelengths,
+    sampler: &mut Sampler,
+) -> Option<(crate::core::light::LightSample, f32)> {
+    let u_light = sampler.get_u64();
+    let u_point = sampler.get_2d();
+    let (li_index, p_select) = scene.light_sampler.sample(u_light)?;
+    let ls = scene.lights[li_index].sample_li(p, u_point, wl, &scene.emissions)?;
+    if ls.pdf <= 0.0 || ls.li.is_black() {
+        return None;
+    }
+    Some((ls, p_select * ls.pdf))
 }
 
 /// MIS-weighted emission of the surface at `si` towards `wo`, reached from `prev`

@@ -1,6 +1,7 @@
 //! `direct`: emission seen directly and direct light at the first non-specular vertex (next-event
 //! estimation with MIS against one BSDF sample; pbrt-v4's `LightPathIntegrator` without the
-//! path), through specular chains at most `max_depth` events long. A debugging and preview
+//! path), through specular chains at most `max_depth` events long; the first non-specular vertex
+//! may be a scattering event inside a medium. A debugging and preview
 //! method: fast, noise-free where lights are large, and the `emission` + `direct` layers of
 //! `pt` exactly in expectation (which its test checks). The whole method is this file and its
 //! row in the method table.
@@ -10,11 +11,12 @@ use quasar_materials::spectrum::SampledWavelengths;
 
 use super::direct::{PrevVertex, emitted_at_hit, escaped_radiance, sample_light};
 use super::entry::{Built, MethodEntry};
+use super::medium_vertex::scatter_in_medium;
 use super::per_pixel::{PerPixel, PixelEstimator};
 use super::pt::MAX_DEPTH;
 use super::scatter::scatter;
 use crate::core::geometry::Ray;
-use crate::core::medium::MediumStack;
+use crate::core::medium::{MediumStack, SegmentEvent};
 use crate::core::sampling::Sampler;
 use crate::core::scene::Scene;
 use crate::film::{LayeredRadiance, PathClass};
@@ -57,13 +59,33 @@ impl PixelEstimator for DirectLighting {
         let mut prev = PrevVertex::eye(ray.origin);
         let class = PathClass::default();
         let mut media = MediumStack::default();
-        // Beer-Lambert absorption of the segment to `hit` inside the innermost medium
+        // Beer-Lambert transmittance of the segment to `hit` inside the innermost medium
         let absorbed = |media: &MediumStack, hit: Option<&_>, wl: &SampledWavelengths| {
             media.transmittance_to(scene, hit, wl).unwrap_or(quasar_materials::spectrum::SampledSpectrum::one())
         };
         for _ in 0..=self.max_specular {
             let hit = scene.intersect(&ray);
-            beta *= absorbed(&media, hit.as_ref(), wl);
+            match media.sample_segment(scene, hit.as_ref().map_or(f32::INFINITY, |h| h.t), wl, sampler) {
+                None => {}
+                Some(SegmentEvent::Surface(w)) => beta *= w,
+                Some(SegmentEvent::Scatter { t, weight, phase }) => {
+                    // the first non-specular vertex is in a medium: its light sample and the
+                    // phase sample's one segment (light that crosses it unscattered)
+                    beta *= weight;
+                    let v = scatter_in_medium(scene, &ray, t, &phase, &media, wl, sampler);
+                    if let Some(l) = v.light {
+                        l.for_path(beta, class.scattered(false)).resolve(scene, &mut out);
+                    }
+                    let hit = scene.intersect(&v.next);
+                    let le = absorbed(&media, hit.as_ref(), wl)
+                        * match hit {
+                            Some(hit) => emitted_at_hit(scene, &hit, -v.next.dir, &v.prev, wl),
+                            None => escaped_radiance(scene, &v.prev, v.next.dir, wl),
+                        };
+                    out.add(class.scattered(false), beta * le);
+                    break;
+                }
+            }
             let Some(si) = hit else {
                 out.add(class, beta * escaped_radiance(scene, &prev, ray.dir, wl));
                 break;

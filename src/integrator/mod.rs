@@ -9,6 +9,7 @@ pub mod direct;
 pub mod direct_lighting;
 pub mod entry;
 pub mod illuminance;
+pub mod medium_vertex;
 pub mod method;
 pub mod params;
 pub mod pass;

@@ -1,5 +1,6 @@
 //! `pt`: the reference unidirectional path tracer (docs/architecture.md §7.2): next-event estimation
-//! with MIS (power heuristic) against BSDF sampling, Russian roulette, unbounded depth by default.
+//! with MIS (power heuristic) against BSDF sampling, Russian roulette, unbounded depth by default;
+//! inside a scattering medium, distance sampling and phase-function vertices (`medium_vertex`).
 //! Contributions are split into layers by the path's scattering history ([`PathClass`]).
 
 use quasar_materials::TransportMode;
@@ -7,11 +8,12 @@ use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths};
 
 use super::direct::{PendingLight, PrevVertex, emitted_at_hit, escaped_radiance, sample_light};
 use super::entry::{Built, MethodEntry};
+use super::medium_vertex::scatter_in_medium;
 use super::params::{ParamDefault, ParamKind, ParamSpec};
 use super::per_pixel::PerPixel;
 use super::scatter::scatter;
 use crate::core::geometry::Ray;
-use crate::core::medium::MediumStack;
+use crate::core::medium::{MAX_MEDIUM_SCATTERS, MediumStack, SegmentEvent};
 use crate::core::sampling::Sampler;
 use crate::core::scene::Scene;
 use crate::film::{LayeredRadiance, PathClass};
@@ -163,6 +165,7 @@ fn trace_in<const MEDIA: bool>(
     out: &mut LayeredRadiance,
 ) {
     let PathState { mut beta, mut class, mut prev, mut eta_scale, mut depth, mut media } = state;
+    let mut medium_scatters = 0u32;
     // the last vertex's light sample: its shadow ray is traced just before the path's next
     // ray (the two are independent), and its contribution, times the path throughput, added
     // if the segment is clear, before anything the next ray finds
@@ -172,9 +175,34 @@ fn trace_in<const MEDIA: bool>(
             l.resolve(scene, out);
         }
         let hit = scene.intersect(&ray);
-        // the segment's absorption (Beer-Lambert) inside the innermost medium
-        if MEDIA && let Some(t) = media.transmittance_to(scene, hit.as_ref(), wl) {
-            beta *= t;
+        // the segment inside the innermost medium: absorbed (Beer-Lambert), or scattered at a
+        // sampled distance (core::medium)
+        if MEDIA {
+            let t_end = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
+            match media.sample_segment(scene, t_end, wl, sampler) {
+                None => {}
+                Some(SegmentEvent::Surface(w)) => beta *= w,
+                Some(SegmentEvent::Scatter { t, weight, phase }) => {
+                    beta *= weight;
+                    medium_scatters += 1;
+                    if !beta.is_finite()
+                        || beta.is_black()
+                        || medium_scatters > MAX_MEDIUM_SCATTERS
+                        || settings.max_depth.is_some_and(|m| depth >= m)
+                    {
+                        break;
+                    }
+                    let v = scatter_in_medium(scene, &ray, t, &phase, &media, wl, sampler);
+                    pending = v.light.map(|l| l.for_path(beta, class.scattered(false)));
+                    class = class.scattered(false);
+                    (prev, ray) = (v.prev, v.next);
+                    depth += 1;
+                    if depth >= settings.rr_depth && !russian_roulette(&mut beta, eta_scale, sampler.get_1d()) {
+                        break;
+                    }
+                    continue;
+                }
+            }
         }
         let Some(si) = hit else {
             out.add(class, beta * escaped_radiance(scene, &prev, ray.dir, wl));

@@ -123,30 +123,39 @@ fn bsdf(name: &str, material: &Material) -> Result<String, String> {
     })
 }
 
-/// The interior medium of a material that absorbs: Mitsuba's `homogeneous` medium of albedo 0
-/// and sigma_t = sigma_a (1/m, on the 1 nm grid; the scene is in metres), at least 1e-7 / m
-/// (Mitsuba 3.9's `volpath` returns NaN where sigma_t is 0; 1e-7 / m changes a metre's
-/// transmittance by 1e-7).
-fn interior_medium(a: &quasar_materials::Absorption) -> String {
+/// The interior medium of a material that absorbs or scatters: Mitsuba's `homogeneous` medium
+/// of sigma_t = sigma_a + sigma_s and albedo sigma_s / sigma_t (1/m, on the 1 nm grid; the scene
+/// is in metres), sigma_t at least 1e-7 / m (Mitsuba 3.9's `volpath` returns NaN where sigma_t is
+/// 0; 1e-7 / m changes a metre's transmittance by 1e-7), with an `hg` phase function of the
+/// same g.
+fn interior_medium(a: Option<&quasar_materials::Absorption>, s: Option<&quasar_materials::Scattering>) -> String {
     let lambda: Vec<f32> = (LAMBDA_MIN as u32..=LAMBDA_MAX as u32).map(|l| l as f32).collect();
-    let values: Vec<f32> = lambda
-        .iter()
-        .map(|&l| {
-            a.sigma_a(&quasar_materials::spectrum::SampledWavelengths::from_parts([l; 4], [1.0; 4])).0[0].max(1e-7)
-        })
-        .collect();
-    let sigma = Spectrum::PiecewiseLinear { lambda, values };
+    let at = |l: f32| quasar_materials::spectrum::SampledWavelengths::from_parts([l; 4], [1.0; 4]);
+    let (mut sigma_t, mut albedo) = (Vec::new(), Vec::new());
+    for &l in &lambda {
+        let sa = a.map_or(0.0, |a| a.sigma_a(&at(l)).0[0]);
+        let ss = s.map_or(0.0, |s| s.sigma_s(&at(l)).0[0]);
+        let st = (sa + ss).max(1e-7);
+        sigma_t.push(st);
+        albedo.push((ss / st).clamp(0.0, 1.0));
+    }
+    let sigma_t = Spectrum::PiecewiseLinear { lambda: lambda.clone(), values: sigma_t };
+    let albedo = Spectrum::PiecewiseLinear { lambda, values: albedo };
+    let phase = s.map_or(String::new(), |s| {
+        format!("<phase type=\"hg\"><float name=\"g\" value=\"{}\"/></phase>", s.phase().g())
+    });
     format!(
-        "<medium name=\"interior\" type=\"homogeneous\"><float name=\"albedo\" value=\"0\"/>{}</medium>",
-        spectrum_tag("sigma_t", &sigma, 1.0)
+        "<medium name=\"interior\" type=\"homogeneous\">{}{}{phase}</medium>",
+        spectrum_tag("albedo", &albedo, 1.0),
+        spectrum_tag("sigma_t", &sigma_t, 1.0)
     )
 }
 
 /// The Mitsuba scene of `desc` rendered at `width` x `height` with `spp` samples per pixel.
-/// With absorbing media it renders with `volpath`, which traces them (`path` ignores media).
+/// With media it renders with `volpath`, which traces them (`path` ignores media).
 pub fn export(desc: &SceneDesc, width: u32, height: u32, spp: u32) -> Result<MitsubaScene, String> {
     let mut xml = String::from("<scene version=\"3.0.0\">\n");
-    let integrator = if desc.materials.iter().any(|m| m.absorption.is_some()) { "volpath" } else { "path" };
+    let integrator = if desc.materials.iter().any(|m| m.absorption.is_some() || m.scattering.is_some()) { "volpath" } else { "path" };
     let _ = writeln!(xml, "<integrator type=\"{integrator}\"><integer name=\"max_depth\" value=\"-1\"/></integrator>");
     let c = &desc.camera;
     let near = (1e-4 * (c.target - c.position).length()).min(1e-2);
@@ -201,8 +210,13 @@ pub fn export(desc: &SceneDesc, width: u32, height: u32, spp: u32) -> Result<Mit
             Some(e) => format!("<emitter type=\"area\">{}</emitter>", spectrum_tag("radiance", &e.spectrum, e.scale)),
             None => String::new(),
         };
-        let medium =
-            desc.materials.get(m.material).and_then(|d| d.absorption.as_ref()).map_or(String::new(), interior_medium);
+        let medium = desc.materials.get(m.material).map_or(String::new(), |d| {
+            if d.absorption.is_some() || d.scattering.is_some() {
+                interior_medium(d.absorption.as_ref(), d.scattering.as_ref())
+            } else {
+                String::new()
+            }
+        });
         let _ = writeln!(
             xml,
             "<shape type=\"obj\"><string name=\"filename\" value=\"{file}\"/><boolean name=\"face_normals\" value=\"{}\"/>\

@@ -54,6 +54,7 @@ SCENES = [
     "scenes/tests/glossy-environment.toml",
     "scenes/tests/tinted-glass.toml",
     "scenes/tests/absorbing-glass.toml",
+    "scenes/tests/scattering-slab.toml",
 ]
 
 

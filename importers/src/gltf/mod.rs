@@ -277,6 +277,7 @@ pub fn import_gltf(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Impor
             name: "gltf-default".into(),
             material: quasar_materials::pbr_material(&Default::default()),
             absorption: None,
+            scattering: None,
             textures: MaterialTextures::default(),
             source: Default::default(),
         });

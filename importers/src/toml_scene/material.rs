@@ -1,9 +1,9 @@
 //! `[materials.NAME]` tables: `type = "diffuse" | "conductor" | "dielectric"`, or
 //! `file = "x.toml"` for a tabulated BSDF (see `crate::bsdf_file`); a transmitting one (a
 //! dielectric or a tabulated BSDF) may absorb inside (`absorption`, or `internal_transmittance`
-//! at a `thickness`).
+//! at a `thickness`) and scatter (`scattering` with `phase_g`).
 
-use quasar_materials::{Absorption, ConductorFresnel, Ior, Material};
+use quasar_materials::{Absorption, ConductorFresnel, Ior, Material, Scattering};
 use toml::de::DeValue;
 
 use super::spectrum::{SpectrumUse, spectrum};
@@ -28,8 +28,47 @@ fn alpha(t: &Tbl<'_>) -> Result<f32, ImportError> {
     Ok(t.opt_f32_where("roughness", ">= 0", |r| r >= 0.0)?.map_or(0.0, |r| r * r))
 }
 
-/// Keys of a transmitting material's interior absorption.
-const ABSORPTION_KEYS: [&str; 3] = ["absorption", "internal_transmittance", "thickness"];
+/// Keys of a transmitting material's interior medium: its absorption and its scattering.
+const ABSORPTION_KEYS: [&str; 5] = ["absorption", "internal_transmittance", "thickness", "scattering", "phase_g"];
+
+/// The medium inside a transmitting material, as the scene file gives it.
+#[derive(Default)]
+pub(crate) struct Interior {
+    /// `absorption` or `internal_transmittance` at `thickness`.
+    pub absorption: Option<Absorption>,
+    /// `scattering` (sigma_s, 1/m) with `phase_g`.
+    pub scattering: Option<Scattering>,
+}
+
+/// The interior medium of a transmitting material: its absorption ([`absorption`]) and its
+/// scattering, `scattering` (sigma_s in 1/m whatever the scene's units: a number or any
+/// spectrum) with the Henyey-Greenstein asymmetry `phase_g` in [-1, 1] (0, isotropic, by
+/// default; only with `scattering`).
+fn interior(t: &Tbl<'_>, unit: f32) -> Result<Interior, ImportError> {
+    let doc = t.doc;
+    let absorption = absorption(t, unit)?;
+    let g = t.opt_f32_where("phase_g", "in [-1, 1]", |g| (-1.0..=1.0).contains(&g))?;
+    let scattering = match t.get("scattering") {
+        Some(v) => {
+            let s = Scattering {
+                coefficient: spectrum(doc, v, &t.key_path("scattering"), SpectrumUse::Quantity)?,
+                g: g.unwrap_or(0.0),
+            };
+            s.validate().map_err(|e| {
+                doc.invalid(&t.span, format!("material `{}`: {e}", t.path.trim_start_matches("materials.")))
+            })?;
+            Some(s)
+        }
+        None if g.is_some() => {
+            return Err(doc.invalid(
+                &t.key_span("phase_g"),
+                format!("`{}`: `phase_g` goes with `scattering` (the medium's sigma_s, 1/m)", t.path),
+            ));
+        }
+        None => None,
+    };
+    Ok(Interior { absorption, scattering })
+}
 
 /// The interior absorption of a transmitting material: `absorption` (sigma_a in 1/m, whatever the
 /// scene's units: a number or any spectrum), or `internal_transmittance` (a spectrum in [0, 1])
@@ -70,9 +109,9 @@ fn absorption(t: &Tbl<'_>, unit: f32) -> Result<Option<Absorption>, ImportError>
     Ok(Some(a))
 }
 
-/// Reads the material table `v` named `name` with its interior absorption (lengths in `unit`
+/// Reads the material table `v` named `name` with its interior medium (lengths in `unit`
 /// metres); the material has passed [`Material::validate`].
-pub(crate) fn material(t: &Tbl<'_>, unit: f32) -> Result<(Material, Option<Absorption>), ImportError> {
+pub(crate) fn material(t: &Tbl<'_>, unit: f32) -> Result<(Material, Interior), ImportError> {
     let doc = t.doc;
     if let Some(v) = t.get("file") {
         t.check_keys(&[&["file"][..], &ABSORPTION_KEYS].concat())?;
@@ -86,7 +125,7 @@ pub(crate) fn material(t: &Tbl<'_>, unit: f32) -> Result<(Material, Option<Absor
             ));
         }
         let table = crate::bsdf_file::load_tabulated_bsdf(&path).map_err(|e| e.included_from(doc.place(&v.span())))?;
-        return Ok((Material::Tabulated(table), absorption(t, unit)?));
+        return Ok((Material::Tabulated(table), interior(t, unit)?));
     }
     let Some((ty, _)) = t.choice("type", &MATERIAL_TYPES)? else {
         return Err(
@@ -148,7 +187,7 @@ pub(crate) fn material(t: &Tbl<'_>, unit: f32) -> Result<(Material, Option<Absor
     };
     m.validate()
         .map_err(|e| doc.invalid(&t.span, format!("material `{}`: {e}", t.path.trim_start_matches("materials."))))?;
-    let absorbs = if matches!(m, Material::Dielectric { .. }) { absorption(t, unit)? } else { None };
+    let absorbs = if matches!(m, Material::Dielectric { .. }) { interior(t, unit)? } else { Interior::default() };
     Ok((m, absorbs))
 }
 

@@ -230,12 +230,13 @@ impl<'a> Builder<'a> {
         for (k, v) in m.entries() {
             let name: &str = k.get_ref();
             let t = Tbl::of(self.doc, v, format!("materials.{name}"))?;
-            let (material, absorption) = material::material(&t, self.unit)?;
+            let (material, interior) = material::material(&t, self.unit)?;
             let source = self.source(&t, name.to_owned());
             let i = self.add_material(MaterialDesc {
                 name: name.to_owned(),
                 material,
-                absorption,
+                absorption: interior.absorption,
+                scattering: interior.scattering,
                 textures: Default::default(),
                 source,
             });
@@ -275,7 +276,7 @@ impl<'a> Builder<'a> {
         let material = Material::Diffuse { reflectance: Spectrum::Constant(0.0), two_sided: true };
         let source = SourceLocation { file: self.doc.file.to_owned(), line: None, item: None };
         let i =
-            self.add_material(MaterialDesc { name, material, absorption: None, textures: Default::default(), source });
+            self.add_material(MaterialDesc { name, material, absorption: None, scattering: None, textures: Default::default(), source });
         self.black = Some(i);
         i
     }

@@ -143,6 +143,7 @@ impl Materials {
             name,
             material: c.material,
             absorption: None,
+            scattering: None,
             textures: c.textures,
             source: SourceLocation { file: file.to_owned(), line: None, item: Some(key.clone()) },
         });
@@ -162,6 +163,7 @@ impl Materials {
                 two_sided: true,
             },
             absorption: None,
+            scattering: None,
             textures: Default::default(),
             source: SourceLocation { file: file.to_owned(), line: None, item: None },
         });

@@ -17,6 +17,7 @@ use super::quasi_cone::in_cone;
 use super::ranges::ByRange;
 use super::visibility_point::{GatherRule, VisibilityPoint};
 use crate::core::geometry::Ray;
+use crate::core::medium::{MAX_MEDIUM_SCATTERS, SegmentEvent};
 use crate::core::isa::Isa;
 use crate::core::sampling::Sampler;
 use crate::core::scene::Scene;
@@ -237,23 +238,46 @@ fn trace_photon(
     let mut pending: Option<(glam::Vec3, glam::Vec3, Arrival)> = None;
     // photons leave the lights outside every medium (core::medium)
     let mut media = crate::core::medium::MediumStack::default();
-    for bounce in 0..MAX_BOUNCES {
+    // scattering events in media so far (a photon that scattered there before its first surface
+    // is no direct light: it is deposited there)
+    let mut medium_scatters = 0u32;
+    let mut bounce = 0;
+    while bounce < MAX_BOUNCES {
         if let Some((p, ng, arrival)) = pending.take() {
             pipeline.push(p, ng, arrival, gatherer);
         }
-        let Some(si) = scene.intersect(&ray) else { break };
-        // the segment's absorption (Beer-Lambert) inside the innermost medium
-        if let Some(t) = media.transmittance(scene, si.t, &wl) {
-            beta *= t;
-            if beta.is_black() {
-                break;
+        let hit = scene.intersect(&ray);
+        // the segment inside the innermost medium: absorbed (Beer-Lambert), or scattered at a
+        // sampled distance by the phase function (which is its own adjoint)
+        match media.sample_segment(scene, hit.as_ref().map_or(f32::INFINITY, |h| h.t), &wl, sampler) {
+            None => {}
+            Some(SegmentEvent::Surface(w)) => {
+                beta *= w;
+                if beta.is_black() {
+                    break;
+                }
+            }
+            Some(SegmentEvent::Scatter { t, weight, phase }) => {
+                beta *= weight;
+                medium_scatters += 1;
+                if !beta.is_finite() || beta.is_black() || medium_scatters > MAX_MEDIUM_SCATTERS {
+                    break;
+                }
+                let p = ray.origin + ray.dir * t;
+                ray = Ray::new(p, phase.sample(-ray.dir, sampler.get_2d()).0);
+                (caustic, specular_only) = (false, false);
+                if bounce + medium_scatters >= RR_DEPTH && !roulette(&mut beta, beta0, sampler) {
+                    break;
+                }
+                continue;
             }
         }
+        let Some(si) = hit else { break };
         let bsdf = scene.bsdf_at(&si, &mut wl);
         let wi_photon = -ray.dir;
         // the photon's incidence cosine on the surface it hit (geometric normal)
         let cos_in = wi_photon.dot(si.ng);
-        if bounce > 0 && !bsdf.is_specular() {
+        if (bounce > 0 || medium_scatters > 0) && !bsdf.is_specular() {
             lookups += 1;
             // the photon at this hit, whichever point's disk it lands in
             let arrival = Arrival {
@@ -292,17 +316,25 @@ fn trace_photon(
         };
         media = media.after(scene, &si, wi_photon, wi);
         ray = si.spawn_ray(wi);
-        if bounce + 1 >= RR_DEPTH {
-            // roulette on the throughput relative to the emitted flux
-            let mut rel = beta / beta0;
-            if !russian_roulette(&mut rel, 1.0, sampler.get_1d()) {
-                break;
-            }
-            beta = rel * beta0;
+        bounce += 1;
+        if bounce + medium_scatters >= RR_DEPTH && !roulette(&mut beta, beta0, sampler) {
+            break;
         }
     }
     if let Some((p, ng, arrival)) = pending {
         pipeline.push(p, ng, arrival, gatherer);
     }
     lookups
+}
+
+/// Russian roulette on a photon's throughput `beta` relative to its emitted flux `beta0`; false
+/// when the photon ends.
+#[inline(always)]
+fn roulette(beta: &mut quasar_materials::spectrum::SampledSpectrum, beta0: f32, sampler: &mut Sampler) -> bool {
+    let mut rel = *beta / beta0;
+    if !russian_roulette(&mut rel, 1.0, sampler.get_1d()) {
+        return false;
+    }
+    *beta = rel * beta0;
+    true
 }

@@ -8,11 +8,12 @@ use quasar_materials::{Bsdf, Frame, Lobe, NARROW_KAPPA, TransportMode};
 
 use super::quasi_cone::{QuasiCone, in_cone};
 use crate::core::geometry::Ray;
-use crate::core::medium::MediumStack;
+use crate::core::medium::{MediumStack, SegmentEvent};
 use crate::core::sampling::Sampler;
 use crate::core::scene::{Scene, SurfaceInteraction};
 use crate::film::{LayeredRadiance, PathClass};
 use crate::integrator::direct::{PendingLight, PrevVertex, emitted_at_hit, escaped_radiance, sample_light};
+use crate::integrator::medium_vertex::scatter_in_medium;
 use crate::integrator::pt::{self, PathState, PtSettings};
 use crate::integrator::scatter::scatter;
 
@@ -211,9 +212,28 @@ pub fn trace_camera_path<'s>(
             l.resolve(scene, &mut out);
         }
         let hit = scene.intersect(&ray);
-        // the segment's absorption (Beer-Lambert) inside the innermost medium
-        if let Some(t) = media.transmittance_to(scene, hit.as_ref(), &wl) {
-            beta *= t;
+        // the segment inside the innermost medium: absorbed (Beer-Lambert), or scattered at a
+        // sampled distance (core::medium); a path that scatters in a medium continues from there
+        // as the path tracer (visibility points stay on surfaces: docs/architecture.md §5)
+        match media.sample_segment(scene, hit.as_ref().map_or(f32::INFINITY, |h| h.t), &wl, sampler) {
+            None => {}
+            Some(SegmentEvent::Surface(w)) => beta *= w,
+            Some(SegmentEvent::Scatter { t, weight, phase }) => {
+                beta *= weight;
+                if beta.is_finite() && !beta.is_black() {
+                    let v = scatter_in_medium(scene, &ray, t, &phase, &media, &wl, sampler);
+                    if let Some(l) = pending.take() {
+                        l.resolve(scene, &mut out);
+                    }
+                    if let Some(l) = v.light {
+                        l.for_path(beta, class.scattered(false)).resolve(scene, &mut out);
+                    }
+                    let class = class.scattered(false);
+                    let state = PathState { beta, class, prev: v.prev, eta_scale, depth: events + 1, media };
+                    pt::trace(scene, v.next, state, &mut wl, sampler, &PtSettings::default(), &mut out);
+                }
+                break;
+            }
         }
         let Some(si) = hit else {
             out.add(class, beta * escaped_radiance(scene, &prev, ray.dir, &wl));
