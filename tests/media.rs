@@ -5,10 +5,10 @@
 
 mod common;
 
-use common::{ALL_QUANTITIES, assert_converges_from, bidir_ov, pt_ov, render_file, write_scene};
+use common::{
+    ALL_QUANTITIES, assert_converges_from, bidir_ov, mean_and_error, pt_ov, quick_ov, render_file, write_scene,
+};
 use quasar::film::LUMINANCE;
-use quasar::output::ExrImage;
-use quasar::render::job::JobOverrides;
 
 /// A camera looking along -z at a glass slab between z = -D/2 and D/2 (two quads, normals
 /// outward), under a uniform environment of radiance 1; MATERIALS and SHAPES are replaced.
@@ -43,34 +43,6 @@ fn slab_luminance(ior: f64, a: f64) -> f64 {
     r + (1.0 - r).powi(2) * a / (1.0 - r * a)
 }
 
-/// The image's mean luminance and its standard error: from the per-pixel errors for the per-pixel
-/// methods, from the whole image's batch statistics (the largest `stderr.block` channel) for the
-/// bidirectional ones, whose pixels share an iteration's wavelengths.
-fn mean_and_error(img: &ExrImage) -> (f64, f64) {
-    let y = img.channel(LUMINANCE).unwrap();
-    let n = y.len() as f64;
-    let mean = y.iter().map(|&v| f64::from(v)).sum::<f64>() / n;
-    let whole = img
-        .channels
-        .iter()
-        .filter(|c| c.name.starts_with("stderr.block"))
-        .max_by_key(|c| c.name.trim_start_matches("stderr.block").parse::<usize>().unwrap_or(0));
-    let se = match whole {
-        Some(c) => f64::from(c.values[0]),
-        None => img.channel("stderr.Y").unwrap().iter().map(|&s| f64::from(s).powi(2)).sum::<f64>().sqrt() / n,
-    };
-    (mean, se)
-}
-
-fn ov(method: &str) -> JobOverrides {
-    let ov = JobOverrides { spp: Some(64), seed: Some(3), method: Some(method.into()), ..Default::default() };
-    if quasar::integrator::method::find(method).unwrap().params.iter().any(|p| p.key == "photons_per_iteration") {
-        ov.with_param("photons_per_iteration", 1000u32)
-    } else {
-        ov
-    }
-}
-
 /// A slab of glass (n = 1.5, 2 cm) with sigma_a = 50 / m transmits e^-1 inside; every method
 /// gives the analytic luminance within four standard errors, and the clear slab gives 1.
 #[test]
@@ -80,7 +52,7 @@ fn an_absorbing_slab_follows_beer_lambert_for_every_method() {
         let scene = write_scene(&SLAB.replace("MATERIALS", &materials).replace("SHAPES", &slab("glass", 0.01)), &[]);
         let want = slab_luminance(1.5, a);
         for method in quasar::integrator::method::METHODS.iter().map(|m| m.name) {
-            let img = render_file(&scene.path, &ov(method)).image;
+            let img = render_file(&scene.path, &quick_ov(method)).image;
             let (mean, se) = mean_and_error(&img);
             eprintln!("{method} {absorption:?}: {mean:.5} +- {se:.5}, analytic {want:.5}");
             assert!(
@@ -108,7 +80,7 @@ fn nested_media_absorb_where_the_path_is() {
         );
         let shapes = slab(outer, 0.02) + &slab(inner, 0.005);
         let scene = write_scene(&SLAB.replace("MATERIALS", &materials).replace("SHAPES", &shapes), &[]);
-        let img = render_file(&scene.path, &ov("pt")).image;
+        let img = render_file(&scene.path, &quick_ov("pt")).image;
         let (mean, se) = mean_and_error(&img);
         let want = slab_luminance(1.5, a);
         eprintln!("{outer_abs:?} / {inner_abs:?}: {mean:.5} +- {se:.5}, analytic {want:.5}");
@@ -191,7 +163,7 @@ fn extreme_absorption_stays_finite() {
         let materials = format!("[materials.glass]\ntype = \"dielectric\"\nior = 1.5\n{absorption}\n");
         let scene = write_scene(&SLAB.replace("MATERIALS", &materials).replace("SHAPES", &slab("glass", 0.01)), &[]);
         for method in ["pt", "adaptive+quasi"] {
-            let img = render_file(&scene.path, &ov(method)).image;
+            let img = render_file(&scene.path, &quick_ov(method)).image;
             assert!(img.channels.iter().all(|c| c.values.iter().all(|v| v.is_finite())), "{method} {absorption:?}");
             let (mean, se) = mean_and_error(&img);
             let want = slab_luminance(1.5, a);

@@ -14,12 +14,12 @@ use quasar_materials::spectrum::SampledSpectrum;
 use quasar_materials::spectrum::{SampledWavelengths, Spectrum};
 use quasar_materials::tabulated::ScatterGrid;
 use quasar_materials::tabulation::{GridSpec, Tabulation, material_fn, power_spaced, uniform_phi};
-use quasar_materials::{Bsdf, ConductorFresnel, Ior, Material, TabulatedBsdf, TabulatedTable};
+use quasar_materials::{Bsdf, ConductorFresnel, HenyeyGreenstein, Ior, Material, TabulatedBsdf, TabulatedTable};
 
 /// Samples per configuration.
 const N: usize = 500_000;
 /// Number of configurations tested below (for the Sidak correction).
-const N_TESTS: usize = 28 + 9;
+const N_TESTS: usize = 28 + 9 + 6;
 
 fn diffuse(two_sided: bool) -> Bsdf<'static> {
     Bsdf::Diffuse(DiffuseBsdf::new(SampledSpectrum::splat(0.8), two_sided))
@@ -93,6 +93,41 @@ fn chi2_rough_dielectric_from_inside() {
             chi2_bsdf(&dielectric(4.0, 0.3), dir(cz), N, 380 + k as u64),
         );
     }
+}
+
+/// The Henyey-Greenstein phase function's sampling against its value (issue 49): isotropic,
+/// forward and backward, from two directions; the sample's own pdf is the value.
+#[test]
+fn chi2_henyey_greenstein() {
+    for (k, (g, cz)) in
+        [(0.0f32, 0.3f32), (0.3, 1.0), (0.9, 0.3), (-0.7, -0.5), (0.0005, 0.8), (-0.95, 0.9)].into_iter().enumerate()
+    {
+        let hg = HenyeyGreenstein::new(g);
+        let wo = dir(cz);
+        let r = chi2_directions(
+            N,
+            600 + k as u64,
+            |_, u| {
+                let (wi, pdf) = hg.sample(wo, u);
+                assert!((pdf - hg.eval(wo, wi)).abs() <= 1e-3 * pdf, "g {g}: pdf {pdf} vs {}", hg.eval(wo, wi));
+                Some(wi)
+            },
+            |wi| f64::from(hg.eval(wo, wi)),
+        );
+        check(&format!("henyey-greenstein g={g} cos={cz}"), r);
+    }
+    // g is the mean cosine between the light's directions before (-wi) and after (wo)
+    let hg = HenyeyGreenstein::new(0.8);
+    let wo = dir(0.2);
+    let n = 100_000;
+    let mean: f32 = (0..n)
+        .map(|i| {
+            let u = glam::Vec2::new((i as f32 + 0.5) / n as f32, ((i * 7919) % n) as f32 / n as f32);
+            -wo.dot(hg.sample(wo, u).0)
+        })
+        .sum::<f32>()
+        / n as f32;
+    assert!((mean - 0.8).abs() < 0.01, "mean cosine {mean}");
 }
 
 #[test]

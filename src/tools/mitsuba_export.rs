@@ -155,7 +155,11 @@ fn interior_medium(a: Option<&quasar_materials::Absorption>, s: Option<&quasar_m
 /// With media it renders with `volpath`, which traces them (`path` ignores media).
 pub fn export(desc: &SceneDesc, width: u32, height: u32, spp: u32) -> Result<MitsubaScene, String> {
     let mut xml = String::from("<scene version=\"3.0.0\">\n");
-    let integrator = if desc.materials.iter().any(|m| m.absorption.is_some() || m.scattering.is_some()) { "volpath" } else { "path" };
+    let integrator = if desc.materials.iter().any(|m| m.absorption.is_some() || m.scattering.is_some()) {
+        "volpath"
+    } else {
+        "path"
+    };
     let _ = writeln!(xml, "<integrator type=\"{integrator}\"><integer name=\"max_depth\" value=\"-1\"/></integrator>");
     let c = &desc.camera;
     let near = (1e-4 * (c.target - c.position).length()).min(1e-2);

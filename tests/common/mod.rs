@@ -294,3 +294,33 @@ pub fn assert_converges_from(
     }
     reports.into_iter().next().unwrap()
 }
+
+/// The image's mean luminance and its standard error: from the per-pixel errors for the per-pixel
+/// methods, from the whole image's batch statistics (the largest `stderr.block` channel) for the
+/// bidirectional ones, whose pixels share an iteration's wavelengths.
+pub fn mean_and_error(img: &quasar::output::ExrImage) -> (f64, f64) {
+    let y = img.channel(quasar::film::LUMINANCE).unwrap();
+    let n = y.len() as f64;
+    let mean = y.iter().map(|&v| f64::from(v)).sum::<f64>() / n;
+    let whole = img
+        .channels
+        .iter()
+        .filter(|c| c.name.starts_with("stderr.block"))
+        .max_by_key(|c| c.name.trim_start_matches("stderr.block").parse::<usize>().unwrap_or(0));
+    let se = match whole {
+        Some(c) => f64::from(c.values[0]),
+        None => img.channel("stderr.Y").unwrap().iter().map(|&s| f64::from(s).powi(2)).sum::<f64>().sqrt() / n,
+    };
+    (mean, se)
+}
+
+/// 64 samples per pixel (or iterations) with seed 3, and 1000 photons per iteration for the
+/// methods that trace photons: a quick render of a small analytic scene.
+pub fn quick_ov(method: &str) -> JobOverrides {
+    let ov = JobOverrides { spp: Some(64), seed: Some(3), method: Some(method.into()), ..Default::default() };
+    if quasar::integrator::method::find(method).unwrap().params.iter().any(|p| p.key == "photons_per_iteration") {
+        ov.with_param("photons_per_iteration", 1000u32)
+    } else {
+        ov
+    }
+}

@@ -275,8 +275,14 @@ impl<'a> Builder<'a> {
         let name = unique_name("emitter-black", |n| self.by_name.contains_key(n));
         let material = Material::Diffuse { reflectance: Spectrum::Constant(0.0), two_sided: true };
         let source = SourceLocation { file: self.doc.file.to_owned(), line: None, item: None };
-        let i =
-            self.add_material(MaterialDesc { name, material, absorption: None, scattering: None, textures: Default::default(), source });
+        let i = self.add_material(MaterialDesc {
+            name,
+            material,
+            absorption: None,
+            scattering: None,
+            textures: Default::default(),
+            source,
+        });
         self.black = Some(i);
         i
     }
