@@ -15,6 +15,7 @@ pub mod framing;
 mod glob;
 pub mod gltf;
 pub mod importer;
+pub mod medium_boundary;
 pub mod names;
 pub mod obj;
 mod obj_keywords;

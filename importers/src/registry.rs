@@ -31,14 +31,23 @@ pub fn supported_extensions() -> Vec<&'static str> {
 }
 
 /// Imports the scene file at `path` with the importer registered for its extension.
+/// A medium whose surfaces leave gaps is reported in [`SceneDesc::warnings`]
+/// ([`crate::medium_boundary`]).
 pub fn import_scene(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportError> {
-    formats().import(path, opts)
+    formats().import(path, opts).map(with_boundary_warnings)
+}
+
+/// `desc` with a warning for every medium whose surfaces do not close.
+fn with_boundary_warnings(mut desc: SceneDesc) -> SceneDesc {
+    let open = crate::medium_boundary::open_medium_boundaries(&desc);
+    desc.warnings.extend(open);
+    desc
 }
 
 /// Imports TOML scene text as if it were the file `path` (for messages and to resolve relative
 /// file names against `path`'s directory); its includes may be of any format.
 pub fn parse_toml_scene(text: &str, path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportError> {
-    toml_scene::parse_toml_scene(text, path, opts, formats())
+    toml_scene::parse_toml_scene(text, path, opts, formats()).map(with_boundary_warnings)
 }
 
 #[cfg(test)]

@@ -30,12 +30,14 @@ pub fn run(job: &PreparedJob<'_>, ov: &JobOverrides, progress: bool) -> Result<R
         Build { scene, camera, seed, shard, spp: if open_ended { ov.spp.unwrap_or(u32::MAX / 2) } else { spp }, isa };
     // `auto` between the path tracer and a bidirectional method: measured (render/pilot.rs),
     // unless the command line sets a parameter the path tracer does not read, or the render
-    // resumes a checkpoint (whose method the resume key names)
+    // resumes a checkpoint (whose method the resume key names), or the budget is one unit (no
+    // variance to measure: the analysis's choice stands)
     let pt_reads_params = instantiate(&crate::integrator::pt::PT, params, &build).is_ok();
     let pilot = if choice == MethodChoice::Auto
         && entry.name != crate::integrator::pt::PT.name
         && pt_reads_params
         && ov.resume.is_none()
+        && (open_ended || spp >= 2)
     {
         let budget = if open_ended { u32::MAX } else { spp };
         Some(
