@@ -76,7 +76,7 @@ mod tests {
         MaterialDesc {
             name: "glass".into(),
             material: Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.0, transmittance: None },
-            absorption: absorbs.then(|| Absorption::Coefficient(Spectrum::Constant(1.0))),
+            absorption: absorbs.then_some(Absorption::Coefficient(Spectrum::Constant(1.0))),
             scattering: None,
             textures: Default::default(),
             source: Default::default(),
