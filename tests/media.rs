@@ -63,6 +63,29 @@ fn an_absorbing_slab_follows_beer_lambert_for_every_method() {
     }
 }
 
+/// One body, two finishes: a slab whose front face is one material and whose back face another
+/// (a light guide's polished and frosted faces), with equal absorption, bounds one medium
+/// (`core::media` merges equal interiors) and follows Beer-Lambert for `pt` and the photons.
+#[test]
+fn faces_of_one_body_with_equal_media_bound_one_medium() {
+    let two_faces = |front: &str, back: &str| {
+        format!(
+            "[materials.front]\ntype = \"dielectric\"\nior = 1.5\n{front}\n[materials.back]\ntype = \"dielectric\"\nior = 1.5\n{back}\n"
+        )
+    };
+    let shapes = "[[shape]]\ntype = \"quad\"\ncenter = [0, 0, 0.01]\nsize = [4, 4]\nnormal = [0, 0, 1]\nmaterial = \"front\"\n\
+                  [[shape]]\ntype = \"quad\"\ncenter = [0, 0, -0.01]\nsize = [4, 4]\nnormal = [0, 0, -1]\nmaterial = \"back\"\n";
+    let scene = write_scene(
+        &SLAB.replace("MATERIALS", &two_faces("absorption = 50", "absorption = 50")).replace("SHAPES", shapes),
+        &[],
+    );
+    let want = slab_luminance(1.5, (-1.0f64).exp());
+    for method in ["pt", "adaptive+quasi"] {
+        let (mean, se) = mean_and_error(&render_file(&scene.path, &quick_ov(method)).image);
+        assert!((mean - want).abs() < 4.0 * se + 1e-4 * want, "{method}: {mean} +- {se}, analytic {want}");
+    }
+}
+
 /// The medium stack: a clear inner slab (index-matched, 1 cm) inside an absorbing one (4 cm,
 /// sigma_a = 25 / m): the path is in the absorbing medium for 3 cm of the 4, before and after the
 /// inner slab; an absorbing inner slab inside a clear one absorbs over its own 1 cm only. Also

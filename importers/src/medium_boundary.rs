@@ -4,7 +4,9 @@
 //! Every edge of a closed surface is shared by an even number of its triangles; an edge used
 //! once (or an odd number of times) is open. The check matches positions, not indices, so that a
 //! body made of separate meshes (six quads of a box) counts as closed, within a grid of 1e-6 of
-//! the bounds' diagonal.
+//! the bounds' diagonal; and it takes together the materials whose interiors are equal (one
+//! medium, as the renderer's media table merges them), so a body whose faces have different
+//! finishes is one surface.
 
 use std::collections::HashMap;
 
@@ -12,15 +14,23 @@ use glam::Vec3;
 
 use crate::scene_desc::SceneDesc;
 
-/// One warning per material with a medium (absorption or scattering) whose triangles leave open
-/// edges, naming the material, the count and one open edge's midpoint (the smallest).
+/// One warning per medium (absorption or scattering) whose triangles leave open edges, naming
+/// its materials, the count and one open edge's midpoint (the smallest).
 pub fn open_medium_boundaries(desc: &SceneDesc) -> Vec<String> {
     let mut warnings = Vec::new();
+    let interior = |m: &crate::scene_desc::MaterialDesc| (m.absorption.clone(), m.scattering.clone());
     for (m, mat) in desc.materials.iter().enumerate() {
         if mat.absorption.is_none() && mat.scattering.is_none() {
             continue;
         }
-        let meshes: Vec<_> = desc.meshes.iter().filter(|mesh| mesh.material == m).collect();
+        // the first material of each medium checks the medium's surfaces
+        let same: Vec<usize> =
+            (0..desc.materials.len()).filter(|&k| interior(&desc.materials[k]) == interior(mat)).collect();
+        if same[0] != m {
+            continue;
+        }
+        let names = same.iter().map(|&k| format!("`{}`", desc.materials[k].name)).collect::<Vec<_>>().join(", ");
+        let meshes: Vec<_> = desc.meshes.iter().filter(|mesh| same.contains(&mesh.material)).collect();
         if meshes.is_empty() {
             continue;
         }
@@ -53,8 +63,8 @@ pub fn open_medium_boundaries(desc: &SceneDesc) -> Vec<String> {
             open.iter().min_by(|a, b| a.to_array().partial_cmp(&b.to_array()).unwrap_or(std::cmp::Ordering::Equal));
         if let Some(mid) = first {
             warnings.push(format!(
-                "material `{}` has a medium inside (absorption or scattering), but its surfaces do not close: {} open edge{} (one at [{:.4}, {:.4}, {:.4}] m); a path that leaves through a gap stays in the medium",
-                mat.name,
+                "the medium inside {} (absorption or scattering) is not closed by its surfaces: {} open edge{} (one at [{:.4}, {:.4}, {:.4}] m); a path that leaves through a gap stays in the medium",
+                names,
                 open.len(),
                 if open.len() == 1 { "" } else { "s" },
                 mid.x,

@@ -3,17 +3,17 @@
 //! (1/m) with a Henyey-Greenstein phase function. A path segment inside it is attenuated by
 //! Beer-Lambert, T = exp(-sigma_t t) with sigma_t = sigma_a + sigma_s, and where the medium
 //! scatters the path samples where along the segment it scatters ([`MediumStack::sample_segment`]).
-//! Which medium a segment lies in is tracked per
-//! path by a [`MediumStack`] of the transmitting surfaces it has entered and not left: crossing a
-//! surface from the side its geometric normal points to (outside) pushes its material, crossing
-//! it from the back pops it, and a reflection changes nothing. So a glass inside water is water
-//! again once the path leaves the glass, with no priority to declare (the rule of Cycles' volume
-//! stack), as long as surfaces do not overlap; paths start outside every medium (a camera inside
-//! a medium is not modelled).
+//! Which medium a segment lies in is tracked per path by a [`MediumStack`] of the media it has
+//! entered and not left (`core::media`): crossing a surface from the side its geometric normal
+//! points to (outside) pushes the medium inside its material, crossing it from the back pops
+//! that medium, and a reflection changes nothing. So a glass inside water is water again once
+//! the path leaves the glass, with no priority to declare (the rule of Cycles' volume stack), as
+//! long as surfaces do not overlap; paths start outside every medium (a camera inside a medium
+//! is not modelled).
 
 use glam::Vec3;
+use quasar_materials::HenyeyGreenstein;
 use quasar_materials::spectrum::{N_SPECTRUM_SAMPLES, SampledSpectrum, SampledWavelengths};
-use quasar_materials::{Absorption, HenyeyGreenstein, Scattering};
 
 use super::interaction::SurfaceInteraction;
 use super::sampling::Sampler;
@@ -25,39 +25,6 @@ use super::scene::Scene;
 /// of paths longer than this is lost (a bias only in such media, stated in docs/architecture.md
 /// §5).
 pub const MAX_MEDIUM_SCATTERS: u32 = 4096;
-
-/// The medium inside one transmitting material, its spectra pre-sampled for rendering.
-#[derive(Clone, Debug)]
-pub struct Medium {
-    absorption: Option<Absorption>,
-    scattering: Option<Scattering>,
-}
-
-impl Medium {
-    /// The medium inside `desc`'s surfaces; None for a clear material.
-    pub fn of(desc: &quasar_importers::MaterialDesc) -> Option<Self> {
-        (desc.absorption.is_some() || desc.scattering.is_some()).then(|| Self {
-            absorption: desc.absorption.as_ref().map(Absorption::densified),
-            scattering: desc.scattering.as_ref().map(Scattering::densified),
-        })
-    }
-
-    /// The extinction sigma_t = sigma_a + sigma_s at `wl` (1/m).
-    #[inline]
-    pub fn sigma_t(&self, wl: &SampledWavelengths) -> SampledSpectrum {
-        let a = self.absorption.as_ref().map_or(SampledSpectrum::zero(), |a| a.sigma_a(wl));
-        match &self.scattering {
-            Some(s) => a + s.sigma_s(wl),
-            None => a,
-        }
-    }
-
-    /// Whether the medium scatters at all.
-    #[inline]
-    pub fn scatters(&self) -> bool {
-        self.scattering.is_some()
-    }
-}
 
 /// What happens along a ray's segment inside a medium ([`MediumStack::sample_segment`]).
 #[derive(Clone, Copy, Debug)]
@@ -81,7 +48,8 @@ pub enum SegmentEvent {
 /// segments take the fourth's absorption).
 pub const MAX_NESTED_MEDIA: usize = 4;
 
-/// The transmitting surfaces a path is inside, innermost last (material indices).
+/// The media a path is inside, innermost last (medium ids of [`super::media::MediaTable`]; a
+/// clear transmitting material's is [`CLEAR`](super::media::CLEAR)).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct MediumStack {
     ids: [u32; MAX_NESTED_MEDIA],
@@ -89,7 +57,7 @@ pub struct MediumStack {
 }
 
 impl MediumStack {
-    /// The innermost material the path is inside, if any.
+    /// The innermost medium the path is inside, if any ([`CLEAR`](super::media::CLEAR) inside a clear material).
     #[inline]
     pub fn innermost(&self) -> Option<u32> {
         self.len.checked_sub(1).map(|i| self.ids[i as usize])
@@ -98,7 +66,8 @@ impl MediumStack {
     /// The stack after the path leaves `si` towards `wi`, having arrived from `wo` (both pointing
     /// away from the surface): unchanged by a reflection (both on one side of the geometric
     /// normal) and in a scene without absorbing media; entering (from the normal's side) pushes
-    /// the surface's material, leaving pops its innermost entry.
+    /// the medium inside the surface's material, leaving pops the innermost entry of that medium
+    /// (so the faces of one body may have different materials, as long as their media are equal).
     #[inline(always)]
     pub fn after(self, scene: &Scene, si: &SurfaceInteraction, wo: Vec3, wi: Vec3) -> Self {
         if !scene.has_media() {
@@ -109,12 +78,13 @@ impl MediumStack {
             return self;
         }
         let mut s = self;
+        let medium = scene.medium_of(si.material);
         if from_outside {
             if (s.len as usize) < MAX_NESTED_MEDIA {
-                s.ids[s.len as usize] = si.material;
+                s.ids[s.len as usize] = medium;
                 s.len += 1;
             }
-        } else if let Some(i) = s.ids[..s.len as usize].iter().rposition(|&m| m == si.material) {
+        } else if let Some(i) = s.ids[..s.len as usize].iter().rposition(|&m| m == medium) {
             s.ids.copy_within(i + 1..s.len as usize, i);
             s.len -= 1;
         }
@@ -159,7 +129,7 @@ impl MediumStack {
     ) -> Option<SegmentEvent> {
         let medium = scene.medium(self.innermost()?)?;
         let sigma_t = medium.sigma_t(wl);
-        let Some(scattering) = &medium.scattering else {
+        let Some(scattering) = medium.scattering() else {
             return Some(SegmentEvent::Surface(beer_lambert(sigma_t, t_end)));
         };
         // after a dispersive interface only the hero wavelength carries light
@@ -182,12 +152,6 @@ impl MediumStack {
             let p = mean(tr);
             Some(SegmentEvent::Surface(if p > 0.0 { tr / p } else { SampledSpectrum::zero() }))
         }
-    }
-
-    /// Whether the innermost medium scatters.
-    #[inline(always)]
-    pub fn scatters(&self, scene: &Scene) -> bool {
-        self.innermost().and_then(|m| scene.medium(m)).is_some_and(Medium::scatters)
     }
 }
 

@@ -11,6 +11,7 @@ pub mod interaction;
 pub mod isa;
 pub mod light;
 pub mod luminaire;
+pub mod media;
 pub mod medium;
 pub mod prefetch;
 pub mod sampling;

@@ -114,9 +114,8 @@ pub struct Scene {
     pub radius: f32,
     /// Microfacet masking-shadowing form of the GGX materials.
     masking: quasar_materials::Masking,
-    /// The medium inside each transmitting material (indexed like `materials`), None for clear
-    /// ones (`core::medium`).
-    media: Vec<Option<super::medium::Medium>>,
+    /// The distinct media and the one inside each material (`core::media`).
+    media: super::media::MediaTable,
     /// Whether any material absorbs or scatters inside: paths track their media only then.
     has_media: bool,
     /// Number of triangles that were dropped because a vertex was not finite or beyond
@@ -331,7 +330,7 @@ impl Scene {
             center,
             radius,
             masking,
-            media: desc.materials.iter().map(super::medium::Medium::of).collect(),
+            media: super::media::MediaTable::new(&desc.materials),
             has_media: desc.materials.iter().any(|m| m.absorption.is_some() || m.scattering.is_some()),
             dropped_triangles: dropped,
         })
@@ -343,10 +342,16 @@ impl Scene {
         self.has_media
     }
 
-    /// The medium inside material `m`, if it has one.
-    #[inline]
-    pub fn medium(&self, m: u32) -> Option<&super::medium::Medium> {
-        self.media.get(m as usize)?.as_ref()
+    /// The medium of id `id` (`core::media`); None for a clear material's.
+    #[inline(always)]
+    pub fn medium(&self, id: u32) -> Option<&super::media::Medium> {
+        self.media.get(id)
+    }
+
+    /// The id of the medium inside material `m` (`core::media::CLEAR` for a clear one).
+    #[inline(always)]
+    pub fn medium_of(&self, m: u32) -> u32 {
+        self.media.medium_of(m)
     }
 
     /// kappa of every material over incidence (indexed like [`Scene::materials`]), tabulated by
