@@ -621,3 +621,89 @@ fn mesh_lights_emit_from_their_mesh() {
     assert_eq!(e.spectrum, orange);
     assert!(mesh(&s, "/World/Plain").emission.is_none());
 }
+
+/// A tetrahedron bound to a UsdPreviewSurface glass whose Material prim carries the medium
+/// attributes `MEDIUM`.
+fn medium_stage(medium: &str) -> String {
+    format!(
+        r#"#usda 1.0
+(
+    metersPerUnit = 1
+)
+def Xform "W"
+{{
+    def Material "Milk"
+    {{
+        {medium}
+        token outputs:surface.connect = </W/Milk/S.outputs:surface>
+        def Shader "S"
+        {{
+            uniform token info:id = "UsdPreviewSurface"
+            float inputs:opacity = 0
+            float inputs:ior = 1.4
+            token outputs:surface
+        }}
+    }}
+    def Mesh "M" (
+        prepend apiSchemas = ["MaterialBindingAPI"]
+    )
+    {{
+        uniform token subdivisionScheme = "none"
+        point3f[] points = [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)]
+        int[] faceVertexCounts = [3, 3, 3, 3]
+        int[] faceVertexIndices = [0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3]
+        rel material:binding = </W/Milk>
+    }}
+}}
+"#
+    )
+}
+
+/// The medium of a USD material (docs/usd.md): `quasar:absorption`, or
+/// `quasar:internalTransmittance` at `quasar:thickness` (metres), and `quasar:scattering` with
+/// `quasar:phaseG`, read from the Material prim; contradictory or invalid values are errors
+/// naming the prim and the attribute.
+#[test]
+fn material_prims_carry_their_medium() {
+    let dir = tempfile::tempdir().unwrap();
+    let load = |medium: &str| {
+        let p = dir.path().join("medium.usda");
+        std::fs::write(&p, medium_stage(medium)).unwrap();
+        import_scene(&p, &ImportOptions::default())
+    };
+    let s =
+        load("float quasar:absorption = 2.5\n        float quasar:scattering = 40\n        float quasar:phaseG = 0.7")
+            .unwrap();
+    let m = s.materials.iter().find(|m| m.name == "Milk").unwrap();
+    assert_eq!(
+        m.absorption,
+        Some(quasar_materials::Absorption::Coefficient(quasar_materials::spectrum::Spectrum::Constant(2.5)))
+    );
+    let sc = m.scattering.as_ref().unwrap();
+    assert_eq!((sc.coefficient.value(550.0), sc.g), (40.0, 0.7));
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    let s =
+        load("color3f quasar:internalTransmittance = (0.5, 0.5, 0.5)\n        float quasar:thickness = 0.01").unwrap();
+    let Some(quasar_materials::Absorption::Transmittance { thickness, .. }) = &s.materials[0].absorption else {
+        panic!("{:?}", s.materials[0].absorption)
+    };
+    assert_eq!(*thickness, 0.01);
+    assert!(load("").unwrap().materials[0].absorption.is_none());
+    for (bad, wants) in [
+        ("float quasar:phaseG = 0.5", "quasar:phaseG"),
+        ("float quasar:scattering = 10\n        float quasar:phaseG = 2", "phase_g"),
+        ("float quasar:absorption = 1\n        float quasar:thickness = 0.01", "not both"),
+        ("float quasar:thickness = 0.01", "go together"),
+        ("float quasar:absorption = -1", "absorption"),
+    ] {
+        let e = load(bad).unwrap_err().to_string();
+        assert!(e.contains("medium.usda") && e.contains("</W/Milk>") && e.contains(wants), "{bad:?}: {e}");
+    }
+    // docs/usd.md lists every attribute read
+    let doc = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/usd.md")).unwrap();
+    for attr in
+        ["quasar:absorption", "quasar:internalTransmittance", "quasar:thickness", "quasar:scattering", "quasar:phaseG"]
+    {
+        assert!(doc.contains(&format!("`{attr}`")) || doc.contains(&format!(" {attr}`")), "docs/usd.md lacks {attr}");
+    }
+}

@@ -22,6 +22,7 @@ mod ies_light;
 mod instancer;
 mod light;
 mod material;
+mod materials;
 mod mesh;
 pub mod reader_guard;
 mod shapes;
@@ -29,7 +30,6 @@ mod texture;
 mod value;
 pub mod writer;
 
-use std::collections::HashMap;
 use std::path::Path;
 
 use glam::{Affine3A, DMat4, Mat3, Vec3};
@@ -38,10 +38,11 @@ use openusd::sdf;
 use openusd::usd::{Prim, SchemaBase, SchemaKind, Stage};
 
 use self::light::{LIGHT_TYPES, UsdLight};
+use self::materials::Materials;
 use self::shapes::SHAPE_TYPES;
 use crate::error::{ErrorPlace, ImportError, ImportErrorKind};
 use crate::importer::{Formats, ImportOptions, Importer};
-use crate::scene_desc::{MAX_SCENE_TRIANGLES, MaterialDesc, MeshDesc, NamedCamera, SceneDesc, SourceLocation};
+use crate::scene_desc::{MAX_SCENE_TRIANGLES, MeshDesc, NamedCamera, SceneDesc, SourceLocation};
 use crate::transform::transform_mesh;
 
 /// Largest USD file accepted (bytes).
@@ -103,73 +104,6 @@ fn attr_err(file: &Path, at: &str, (attr, msg): (String, String)) -> ImportError
 /// A stage-level metadata value of the root layer.
 fn layer_metadata(stage: &Stage, key: &str) -> Option<sdf::Value> {
     stage.root_layer().pseudo_root().and_then(|r| r.get::<sdf::Value>(key))
-}
-
-/// The stage's materials, by material prim path (named by the prim's name, made unique), and
-/// the textures they read.
-#[derive(Default)]
-struct Materials {
-    by_path: HashMap<String, usize>,
-    descs: Vec<MaterialDesc>,
-    emission: Vec<Option<crate::scene_desc::EmissionDesc>>,
-    textures: texture::TextureSet,
-}
-
-impl Materials {
-    fn index(
-        &mut self,
-        stage: &Stage,
-        file: &Path,
-        path: Option<sdf::Path>,
-        warnings: &mut Vec<String>,
-    ) -> Result<usize, ImportError> {
-        let key = path.as_ref().map_or_else(String::new, |p| p.as_str().to_string());
-        if let Some(&i) = self.by_path.get(&key) {
-            return Ok(i);
-        }
-        let c = match &path {
-            Some(p) => material::convert(stage, p, file, &mut self.textures)?,
-            None => material::Converted {
-                material: material::fallback(),
-                textures: Default::default(),
-                emission: None,
-                notes: Vec::new(),
-            },
-        };
-        warnings.extend(c.notes.into_iter().map(|n| format!("{}: {n}", file.display())));
-        let base = path.as_ref().and_then(|p| p.name().map(str::to_string)).unwrap_or_else(|| "usd-default".into());
-        let name = crate::names::unique_name(&base, |n| self.descs.iter().any(|d| d.name == n));
-        self.descs.push(MaterialDesc {
-            name,
-            material: c.material,
-            absorption: None,
-            scattering: None,
-            textures: c.textures,
-            source: SourceLocation { file: file.to_owned(), line: None, item: Some(key.clone()) },
-        });
-        self.emission.push(c.emission);
-        self.by_path.insert(key, self.descs.len() - 1);
-        Ok(self.descs.len() - 1)
-    }
-}
-
-impl Materials {
-    /// The black two-sided diffuse material of the UsdLux area lights' meshes.
-    fn light_material(&mut self, file: &Path) -> usize {
-        self.descs.push(MaterialDesc {
-            name: crate::names::unique_name("usd-light", |n| self.descs.iter().any(|d| d.name == n)),
-            material: quasar_materials::Material::Diffuse {
-                reflectance: quasar_materials::spectrum::Spectrum::Constant(0.0),
-                two_sided: true,
-            },
-            absorption: None,
-            scattering: None,
-            textures: Default::default(),
-            source: SourceLocation { file: file.to_owned(), line: None, item: None },
-        });
-        self.emission.push(None);
-        self.descs.len() - 1
-    }
 }
 
 /// Prims drawn and skipped during an import, for `quasar info` ([`SceneDesc::import_summary`]).
