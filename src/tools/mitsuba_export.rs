@@ -140,13 +140,18 @@ fn interior_medium(a: Option<&quasar_materials::Absorption>, s: Option<&quasar_m
         albedo.push((ss / st).clamp(0.0, 1.0));
     }
     let sigma_t = Spectrum::PiecewiseLinear { lambda: lambda.clone(), values: sigma_t };
-    let albedo = Spectrum::PiecewiseLinear { lambda, values: albedo };
+    // a constant albedo as a number: Mitsuba 3.9 cannot build its sampling distribution from a
+    // spectrum that is 0 everywhere (an absorbing medium's)
+    let albedo = if albedo.iter().all(|&a| a == albedo[0]) {
+        format!("<float name=\"albedo\" value=\"{}\"/>", albedo[0])
+    } else {
+        spectrum_tag("albedo", &Spectrum::PiecewiseLinear { lambda, values: albedo }, 1.0)
+    };
     let phase = s.map_or(String::new(), |s| {
         format!("<phase type=\"hg\"><float name=\"g\" value=\"{}\"/></phase>", s.phase().g())
     });
     format!(
-        "<medium name=\"interior\" type=\"homogeneous\">{}{}{phase}</medium>",
-        spectrum_tag("albedo", &albedo, 1.0),
+        "<medium name=\"interior\" type=\"homogeneous\">{albedo}{}{phase}</medium>",
         spectrum_tag("sigma_t", &sigma_t, 1.0)
     )
 }
@@ -386,6 +391,27 @@ emission = {{ spectrum = {{ blackbody = 3000 }}, scale = 2 }}
         assert!(s.xml.contains("<float name=\"beam_width\" value=\"30\"/>"));
         assert_eq!(s.meshes.len(), 2);
         assert!(s.meshes[0].1.contains("f 1 2 3"));
+    }
+
+    /// An absorbing medium is written with an albedo of the number 0 (Mitsuba 3.9 refuses a
+    /// spectrum that is 0 everywhere), a scattering one with its albedo spectrum and `hg` phase.
+    #[test]
+    fn media_are_homogeneous_with_albedo_and_phase() {
+        let medium = |keys: &str| {
+            let extra = format!(
+                "[materials.g]\ntype = \"dielectric\"\nior = 1.5\n{keys}\n[[shape]]\ntype = \"sphere\"\nradius = 0.1\nmaterial = \"g\""
+            );
+            export(&desc(&extra), 8, 6, 1).unwrap().xml
+        };
+        let absorbing = medium("absorption = 2");
+        assert!(
+            absorbing.contains("<medium name=\"interior\" type=\"homogeneous\"><float name=\"albedo\" value=\"0\"/>")
+        );
+        assert!(absorbing.contains("<integrator type=\"volpath\">") && !absorbing.contains("<phase"));
+        let scattering =
+            medium("absorption = { wavelengths = [400, 700], values = [4, 1] }\nscattering = 10\nphase_g = 0.5");
+        assert!(scattering.contains("<spectrum name=\"albedo\" value=\"360:"), "a spectral albedo");
+        assert!(scattering.contains("<phase type=\"hg\"><float name=\"g\" value=\"0.5\"/></phase>"));
     }
 
     #[test]

@@ -58,6 +58,7 @@ SCENES = [
     "scenes/tests/tinted-glass.toml",
     "scenes/tests/absorbing-glass.toml",
     "scenes/tests/scattering-slab.toml",
+    "scenes/tests/absorbing-rod.toml",
 ]
 
 
