@@ -72,10 +72,12 @@ pub struct HenyeyGreenstein {
 }
 
 impl HenyeyGreenstein {
-    /// The phase function of asymmetry `g` (clamped to +-[`MAX_ASYMMETRY`]).
+    /// The phase function of asymmetry `g` (clamped to +-[`MAX_ASYMMETRY`]; |g| < 1e-3 is
+    /// isotropic, where the inverted distribution's division by g loses its precision, so that
+    /// the value and the sampled density stay one function).
     #[inline]
     pub fn new(g: f32) -> Self {
-        Self { g: g.clamp(-MAX_ASYMMETRY, MAX_ASYMMETRY) }
+        Self { g: if g.abs() < 1e-3 { 0.0 } else { g.clamp(-MAX_ASYMMETRY, MAX_ASYMMETRY) } }
     }
 
     /// The asymmetry g used (clamped).
@@ -104,7 +106,7 @@ impl HenyeyGreenstein {
     #[inline]
     pub fn sample(&self, wo: Vec3, u: Vec2) -> (Vec3, f32) {
         let g = self.g;
-        let cos_theta = if g.abs() < 1e-3 {
+        let cos_theta = if g == 0.0 {
             1.0 - 2.0 * u.x
         } else {
             let s = (1.0 - g * g) / (1.0 - g + 2.0 * g * u.x);

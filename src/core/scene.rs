@@ -312,6 +312,7 @@ impl Scene {
         }
         let infinite_lights = lights.iter().enumerate().filter(|(_, l)| l.is_infinite()).map(|(i, _)| i).collect();
         let light_sampler = LightSampler::new(&lights, &emissions);
+        let media = super::media::MediaTable::new(&desc.materials);
         Ok(Self {
             accel,
             // spectra pre-sampled on the 1 nm grid (identical values to float rounding)
@@ -330,8 +331,8 @@ impl Scene {
             center,
             radius,
             masking,
-            media: super::media::MediaTable::new(&desc.materials),
-            has_media: desc.materials.iter().any(|m| m.absorption.is_some() || m.scattering.is_some()),
+            has_media: !media.is_empty(),
+            media,
             dropped_triangles: dropped,
         })
     }
