@@ -45,7 +45,7 @@ pub enum SegmentEvent {
 }
 
 /// Nesting depth tracked: a fifth medium entered inside four others is not tracked (its
-/// segments take the fourth's absorption).
+/// segments take the fourth's medium).
 pub const MAX_NESTED_MEDIA: usize = 4;
 
 /// The media a path is inside, innermost last (medium ids of [`super::media::MediaTable`]; a
@@ -65,7 +65,7 @@ impl MediumStack {
 
     /// The stack after the path leaves `si` towards `wi`, having arrived from `wo` (both pointing
     /// away from the surface): unchanged by a reflection (both on one side of the geometric
-    /// normal) and in a scene without absorbing media; entering (from the normal's side) pushes
+    /// normal) and in a scene without media; entering (from the normal's side) pushes
     /// the medium inside the surface's material, leaving pops the innermost entry of that medium
     /// (so the faces of one body may have different materials, as long as their media are equal).
     #[inline(always)]
@@ -115,8 +115,8 @@ impl MediumStack {
     /// path's next event lies: in a medium that only absorbs, the segment's end with weight T
     /// (no random number is used); in a scattering one, a distance t drawn from the mixture
     /// over the path's wavelengths of the densities sigma_t exp(-sigma_t t) (one-sample MIS over
-    /// wavelengths, so that no wavelength's weight is unbounded; pbrt-v4 §14.1.2 does the same
-    /// with ratio tracking): a scattering event at t < t_end with weight
+    /// wavelengths, so that no wavelength's weight is unbounded; pbrt-v4 §14.1 reaches the same
+    /// end with the hero wavelength's density and spectral MIS ratios): a scattering event at t < t_end with weight
     /// sigma_s T(t) / mean(sigma_t T(t)), or the end with weight T(t_end) / mean(T(t_end)).
     /// None where the segment lies in no medium.
     #[inline(always)]
