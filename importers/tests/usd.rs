@@ -578,7 +578,9 @@ fn inherits_specializes_and_layer_offsets_compose_as_pixar_does() {
 /// Material bindings resolved as Pixar's `ComputeBoundMaterial` does for the render (`full`)
 /// purpose (issue 51, item 3): a parent's strongerThanDescendants binding wins over its child's,
 /// a full-purpose binding over an all-purpose one, a preview-purpose binding is not the render's,
-/// and a collection binding reaches the meshes in the collection only.
+/// and a collection binding reaches the meshes in the collection only (members with and without
+/// MaterialBindingAPI, one below an included Xform), loses to a member's own direct binding and
+/// beats its owner's direct binding, which a non-member gets.
 #[test]
 fn material_bindings_resolve_as_pixar_does_for_rendering() {
     check_meshes(&import("bindings.usda"), &expected("bindings.usda"));

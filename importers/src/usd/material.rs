@@ -19,8 +19,11 @@
 //! used and a warning names the material. Materials that are not UsdPreviewSurface (MDL,
 //! MaterialX) get the fallback grey diffuse with a warning.
 
-use openusd::schemas::shade::{self, MaterialBindingAPI};
+use std::collections::HashMap;
+
+use openusd::schemas::shade;
 use openusd::sdf;
+use openusd::usd::{Collection, MembershipQuery, is_collection_api_path};
 use openusd::usd::{Prim, Stage};
 use quasar_materials::spectrum::Spectrum;
 use quasar_materials::{Material, PbrParams, pbr_material};
@@ -43,21 +46,22 @@ pub(super) struct Converted {
     pub notes: Vec<String>,
 }
 
-/// The material bound to `prim` for rendering, as Pixar's `ComputeBoundMaterial` resolves it for
-/// the `full` purpose, falling back to all-purpose bindings: the closest direct binding up the
-/// namespace, unless an ancestor's is `strongerThanDescendants`. Resolved here rather than by
-/// openusd 0.6, which reads `bindMaterialAs` only as a token (a `.usda` file writes it as a
-/// string, so every binding read as weaker) and resolves only through `MaterialBindingAPI` on
-/// the queried prim. A prim without a direct binding gets its ancestors' collection bindings
-/// from openusd when it carries the API itself; otherwise they are not read (docs/usd.md).
+/// The material bound to `prim` for rendering, as Pixar's `ComputeBoundMaterial` resolves it:
+/// the `full` purpose first, then all-purpose bindings; up the namespace from `prim`, the closest
+/// prim with a binding wins unless an ancestor's is `strongerThanDescendants` (the topmost such
+/// then wins); at one prim, a collection binding whose collection includes `prim` beats the
+/// direct binding (in property order). Resolved here rather than by openusd 0.6, which reads
+/// `bindMaterialAs` only as a token (a `.usda` file writes it as a string) and resolves only for
+/// a queried prim that carries `MaterialBindingAPI` (a collection's members need not).
 pub(super) fn bound_material(stage: &Stage, prim: &Prim) -> Option<sdf::Path> {
+    let mut members: HashMap<sdf::Path, Option<MembershipQuery>> = HashMap::new();
     for purpose in [RENDER_PURPOSE, ""] {
         let mut winner = None;
         let mut at = Some(prim.path().clone());
         while let Some(p) = at {
-            if let Ok(Some(api)) = MaterialBindingAPI::get(stage, p.clone())
-                && let Ok(Some(m)) = api.direct_binding(purpose)
-                && (winner.is_none() || stronger_than_descendants(stage, &p, purpose))
+            if !p.is_abs_root()
+                && let Some((m, stronger)) = binding_at(stage, &p, prim.path(), purpose, &mut members)
+                && (winner.is_none() || stronger)
             {
                 winner = Some(m);
             }
@@ -67,27 +71,59 @@ pub(super) fn bound_material(stage: &Stage, prim: &Prim) -> Option<sdf::Path> {
             return winner;
         }
     }
-    MaterialBindingAPI::get(stage, prim.path().clone())
-        .ok()
-        .flatten()?
-        .compute_bound_material(RENDER_PURPOSE)
-        .ok()
-        .flatten()
+    None
 }
 
-/// Whether the direct binding of `purpose` on the prim at `p` is `strongerThanDescendants`
-/// (its `bindMaterialAs` metadata, a token or a string).
-fn stronger_than_descendants(stage: &Stage, p: &sdf::Path, purpose: &str) -> bool {
+/// The binding of `purpose` ("" for all-purpose) that wins at the prim `p` for the queried prim
+/// `queried`, with whether it is `strongerThanDescendants`: a collection binding whose
+/// collection includes `queried`, else the direct binding.
+fn binding_at(
+    stage: &Stage,
+    p: &sdf::Path,
+    queried: &sdf::Path,
+    purpose: &str,
+    members: &mut HashMap<sdf::Path, Option<MembershipQuery>>,
+) -> Option<(sdf::Path, bool)> {
+    let prefix = "material:binding:collection:";
+    for name in stage.prim(p.clone()).property_names().ok()? {
+        let Some(rest) = name.as_str().strip_prefix(prefix) else { continue };
+        // `<purpose>:<name>` is purpose-restricted, a plain `<name>` all-purpose
+        let binding_purpose = match rest.split(':').collect::<Vec<_>>().as_slice() {
+            [pur, _] => *pur,
+            _ => "",
+        };
+        if binding_purpose != purpose {
+            continue;
+        }
+        let Ok(rel) = p.append_property(name.as_str()) else { continue };
+        let Ok(targets) = stage.relationship(rel.clone()).targets() else { continue };
+        let [collection, material] = targets.as_slice() else { continue };
+        let query = members.entry(collection.clone()).or_insert_with(|| {
+            let (owner, c) = is_collection_api_path(collection)?;
+            Collection::new(owner, c).compute_membership_query(stage).ok()
+        });
+        if query.as_ref().is_some_and(|q| q.is_path_included(queried)) {
+            return Some((material.clone(), stronger_than_descendants(stage, &rel)));
+        }
+    }
     let rel = if purpose.is_empty() { "material:binding".to_string() } else { format!("material:binding:{purpose}") };
-    let Ok(path) = p.append_property(rel.as_str()) else { return false };
-    match stage.attribute(path).get_metadata::<sdf::Value>("bindMaterialAs") {
+    let rel = p.append_property(rel.as_str()).ok()?;
+    let material = stage.relationship(rel.clone()).targets().ok()?.into_iter().next()?;
+    Some((material, stronger_than_descendants(stage, &rel)))
+}
+
+/// Whether the binding relationship `rel` is `strongerThanDescendants` (its `bindMaterialAs`
+/// metadata, a token or a string).
+fn stronger_than_descendants(stage: &Stage, rel: &sdf::Path) -> bool {
+    match stage.attribute(rel.clone()).get_metadata::<sdf::Value>("bindMaterialAs") {
         Ok(Some(sdf::Value::Token(t))) => t.as_str() == "strongerThanDescendants",
         Ok(Some(sdf::Value::String(s))) => s == "strongerThanDescendants",
         _ => false,
     }
 }
 
-/// The material purpose a renderer binds (`full`; `preview` is for viewports).
+/// The material purpose a final render resolves first (UsdShade's `full`; `preview` bindings are
+/// for viewports).
 const RENDER_PURPOSE: &str = "full";
 
 /// The fallback material of prims without a (readable) material: grey diffuse 0.18, the

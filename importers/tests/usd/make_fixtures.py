@@ -556,8 +556,10 @@ def arcs():
 def bindings():
     """bindings.usda: material bindings resolved as Pixar's ComputeBoundMaterial for the `full`
     (render) purpose does: a parent's strongerThanDescendants binding over its child's own, a
-    full-purpose binding over an all-purpose one, a preview-purpose binding ignored, and a
-    binding through a collection (one mesh in it, one not)."""
+    full-purpose binding over an all-purpose one, a preview-purpose binding ignored, and
+    bindings through a collection: members with and without MaterialBindingAPI, one below an
+    included Xform, one with its own direct binding, and a mesh outside it that gets the owner's
+    direct binding."""
     stage = Usd.Stage.CreateNew(path("bindings.usda"))
     UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.y)
     UsdGeom.SetStageMetersPerUnit(stage, 1.0)
@@ -586,13 +588,24 @@ def bindings():
     api.Bind(mats["Green"])
     api.Bind(mats["Red"], materialPurpose=UsdShade.Tokens.preview)
     coll = UsdGeom.Xform.Define(stage, "/World/Coll").GetPrim()
-    # the member carries MaterialBindingAPI (without a binding of its own): openusd 0.6 resolves
-    # ancestors' collection bindings only for such prims (docs/usd.md)
+    # one member carries MaterialBindingAPI (without a binding of its own), the others do not
+    # (a collection's members need not: quasar resolves collections itself, openusd 0.6 did so
+    # only for prims with the API); a member below an included Xform is in by expandPrims; a
+    # member with a direct binding of its own keeps it (the closest prim's binding wins); a
+    # direct binding on the collection's owner loses to the collection binding there
     UsdShade.MaterialBindingAPI.Apply(tri("/World/Coll/In", 6))
     tri("/World/Coll/Out", 8)
+    tri("/World/Coll/Bare", 10)
+    UsdGeom.Xform.Define(stage, "/World/Coll/Group")
+    tri("/World/Coll/Group/Deep", 12)
+    own = tri("/World/Coll/Own", 14)
+    UsdShade.MaterialBindingAPI.Apply(own).Bind(mats["Green"])
     c = Usd.CollectionAPI.Apply(coll, "glass")
-    c.CreateIncludesRel().AddTarget("/World/Coll/In")
-    UsdShade.MaterialBindingAPI.Apply(coll).Bind(c, mats["Blue"], "glass")
+    for member in ["/World/Coll/In", "/World/Coll/Bare", "/World/Coll/Group", "/World/Coll/Own"]:
+        c.CreateIncludesRel().AddTarget(member)
+    api = UsdShade.MaterialBindingAPI.Apply(coll)
+    api.Bind(c, mats["Blue"], "glass")
+    api.Bind(mats["Red"])
     stage.GetRootLayer().Save()
     return stage
 
