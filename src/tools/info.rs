@@ -20,7 +20,7 @@ pub fn report(path: &Path, desc: &SceneDesc, compiled: &Scene) -> String {
     let _ = writeln!(s, "materials: {}", desc.materials.len());
     for m in &desc.materials {
         let tex = if m.textures.is_empty() { "" } else { " (textured)" };
-        let _ = writeln!(s, "  {}: {}{tex}", m.name, describe_material(&m.material));
+        let _ = writeln!(s, "  {}: {}{tex}{}", m.name, describe_material(&m.material), describe_medium(m));
     }
     if !desc.textures.is_empty() {
         let t: Vec<String> = desc.textures.iter().map(|t| format!("{} {}x{}", t.name, t.width, t.height)).collect();
@@ -88,6 +88,25 @@ pub fn describe_spectrum(s: &Spectrum) -> String {
     }
 }
 
+/// The medium inside a material, as a suffix of its line (`; inside: absorption 2 /m,
+/// scattering 40 /m, g 0.7`); empty for a clear one.
+pub fn describe_medium(m: &quasar_importers::MaterialDesc) -> String {
+    let mut parts = Vec::new();
+    match &m.absorption {
+        Some(quasar_materials::Absorption::Coefficient(c)) => {
+            parts.push(format!("absorption {} /m", describe_spectrum(c)))
+        }
+        Some(quasar_materials::Absorption::Transmittance { transmittance, thickness }) => {
+            parts.push(format!("internal transmittance {} at {} m", describe_spectrum(transmittance), num(*thickness)))
+        }
+        None => {}
+    }
+    if let Some(sc) = &m.scattering {
+        parts.push(format!("scattering {} /m, g {}", describe_spectrum(&sc.coefficient), num(sc.g)));
+    }
+    if parts.is_empty() { String::new() } else { format!("; inside: {}", parts.join(", ")) }
+}
+
 /// One line on a material: its model and key parameters
 /// (`diffuse, reflectance table 400-700 nm, 76 points, mean 0.71, two-sided`).
 pub fn describe_material(m: &Material) -> String {
@@ -141,6 +160,17 @@ mod tests {
         assert_eq!(describe_material(&m), "diffuse, reflectance table 400-700 nm, 3 points, mean 0.7, two-sided");
         let g = Material::Dielectric { ior: Ior::Constant(1.5), alpha: 0.05, transmittance: None };
         assert_eq!(describe_material(&g), "dielectric, GGX alpha 0.05, ior 1.5");
+        let mut milk = quasar_importers::MaterialDesc {
+            name: "milk".into(),
+            material: g.clone(),
+            absorption: Some(quasar_materials::Absorption::Coefficient(Spectrum::Constant(2.0))),
+            scattering: Some(quasar_materials::Scattering { coefficient: Spectrum::Constant(40.0), g: 0.7 }),
+            textures: Default::default(),
+            source: Default::default(),
+        };
+        assert_eq!(describe_medium(&milk), "; inside: absorption 2 /m, scattering 40 /m, g 0.7");
+        (milk.absorption, milk.scattering) = (None, None);
+        assert_eq!(describe_medium(&milk), "");
         assert_eq!(num(480.3702), "480.4");
         assert_eq!(num(0.0), "0");
         assert_eq!(num(2.5e-6), "2.500e-6");
