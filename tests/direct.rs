@@ -4,12 +4,8 @@
 
 mod common;
 
-use common::{assert_converges, pt_ov, render_file, shipped, z_test_from};
-use quasar::film::{LAYER_NAMES, Quantity};
-
-fn layer(name: &str) -> Quantity {
-    Quantity::Layer(LAYER_NAMES.iter().position(|&l| l == name).unwrap())
-}
+use common::{assert_converges, layer, pt_ov, render_file, shipped, z_test_from};
+use quasar::film::Quantity;
 
 #[test]
 fn direct_is_the_emission_and_direct_layers_of_pt() {

@@ -324,3 +324,77 @@ pub fn quick_ov(method: &str) -> JobOverrides {
         ov
     }
 }
+
+/// A transmitting sphere (radius 0.3 m, its material's keys `sphere`) on a diffuse
+/// floor under a small area light and a dim sky, 40x30: its shadow and caustic come from photons
+/// and camera paths that cross it (the media tests).
+pub fn sphere_on_floor_scene(sphere: &str) -> TempScene {
+    write_scene(&SPHERE_ON_FLOOR.replace("SPHERE_KEYS", sphere), &[])
+}
+
+const SPHERE_ON_FLOOR: &str = r#"
+[render]
+width = 40
+height = 30
+[camera]
+position = [0, 1.2, 2.2]
+target = [0, 0.2, 0]
+fov_deg = 40
+[materials.floor]
+type = "diffuse"
+reflectance = 0.6
+[materials.sphere]
+SPHERE_KEYS
+[materials.black]
+type = "diffuse"
+reflectance = 0
+[[shape]]
+type = "quad"
+center = [0, 0, 0]
+size = [4, 4]
+normal = [0, 1, 0]
+material = "floor"
+[[shape]]
+type = "sphere"
+center = [0, 0.3, 0]
+radius = 0.3
+subdivisions = 3
+material = "sphere"
+[[shape]]
+type = "quad"
+center = [0.3, 1.6, -0.3]
+size = [0.4, 0.4]
+normal = [0, -1, 0]
+material = "black"
+emission = { spectrum = { constant = 1 }, scale = 20 }
+[[light]]
+type = "environment"
+scale = 0.05
+"#;
+
+/// Every bidirectional method on `scene` (256 iterations of 20,000 photons, 40x30) passes the
+/// block z-tests against `reference` (`pt`): finite, the beauty and the first layers at 8-pixel
+/// blocks, the others at 16.
+pub fn assert_bidirectional_methods_converge(scene: &Path, reference: &JobOutput) {
+    for method in ["vismap", "adaptive", "quasi", "adaptive+quasi"] {
+        let img = render_file(scene, &bidir_ov(40, 30, method, 256, 20_000, 7));
+        assert!(img.image.channel(quasar::film::LUMINANCE).unwrap().iter().all(|v| v.is_finite()));
+        assert_converges_from(8, method, &img, reference, &ALL_QUANTITIES[..3]);
+        assert_converges_from(16, method, &img, reference, &ALL_QUANTITIES[3..]);
+    }
+}
+
+/// The layer of the film named `name` (`emission`, `direct`, `indirect`, `caustic`).
+pub fn layer(name: &str) -> quasar::film::Quantity {
+    quasar::film::Quantity::Layer(quasar::film::LAYER_NAMES.iter().position(|&l| l == name).unwrap())
+}
+
+/// Two quads bounding a slab of material `m` between z = -half and z = half (metres), normals
+/// outwards.
+pub fn slab(m: &str, half: f32) -> String {
+    format!(
+        "[[shape]]\ntype = \"quad\"\ncenter = [0, 0, {half}]\nsize = [4, 4]\nnormal = [0, 0, 1]\nmaterial = \"{m}\"\n\
+         [[shape]]\ntype = \"quad\"\ncenter = [0, 0, {}]\nsize = [4, 4]\nnormal = [0, 0, -1]\nmaterial = \"{m}\"\n",
+        -half
+    )
+}
