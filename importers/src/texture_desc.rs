@@ -86,6 +86,12 @@ pub struct MaterialTextures {
     pub normal: Option<TextureRef>,
     /// glTF `normalTexture.scale`: multiplies the map's X and Y.
     pub normal_scale: f32,
+    /// KHR_materials_clearcoat `clearcoatTexture` (red channel, linear): multiplies
+    /// `pbr.clearcoat`.
+    pub clearcoat: Option<TextureRef>,
+    /// KHR_materials_clearcoat `clearcoatRoughnessTexture` (green channel, linear): multiplies
+    /// `pbr.clearcoat_roughness`.
+    pub clearcoat_roughness: Option<TextureRef>,
 }
 
 impl MaterialTextures {
@@ -94,10 +100,18 @@ impl MaterialTextures {
         self.pbr.is_none()
     }
 
-    /// Every texture reference (base colour, metallic-roughness, normal map), for remapping
-    /// texture indices when scenes are merged.
+    /// Every texture reference (base colour, metallic-roughness, normal map, clear coat), for
+    /// remapping texture indices when scenes are merged.
     pub fn references_mut(&mut self) -> impl Iterator<Item = &mut TextureRef> {
-        [&mut self.base_color, &mut self.metallic_roughness, &mut self.normal].into_iter().flatten()
+        [
+            &mut self.base_color,
+            &mut self.metallic_roughness,
+            &mut self.normal,
+            &mut self.clearcoat,
+            &mut self.clearcoat_roughness,
+        ]
+        .into_iter()
+        .flatten()
     }
 }
 

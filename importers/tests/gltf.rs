@@ -514,11 +514,11 @@ fn malformed_files_give_clear_errors() {
     assert_eq!(k, ImportErrorKind::Unsupported);
     assert!(e.contains("/extensionsRequired/0") && e.contains("KHR_draco_mesh_compression"), "{e}");
     let mut w = simple();
-    w.use_extension("KHR_materials_clearcoat", false);
+    w.use_extension("KHR_materials_sheen", false);
     w.use_extension("EXT_meshopt_compression", false);
     let s = import(&d.gltf("used", &w));
     assert_eq!(s.warnings.len(), 1);
-    assert!(s.warnings[0].contains("KHR_materials_clearcoat, EXT_meshopt_compression"), "{:?}", s.warnings);
+    assert!(s.warnings[0].contains("KHR_materials_sheen, EXT_meshopt_compression"), "{:?}", s.warnings);
 
     // invalid references found by validation name a JSON pointer
     let mut w = simple();
@@ -735,4 +735,49 @@ fn vertex_colours_in_bytes_and_white_ones() {
     let by = |n: &str| s.meshes.iter().find(|m| m.name.starts_with(n)).unwrap();
     assert_eq!(by("coloured:").colors.as_deref(), Some(&[[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]][..]));
     assert_eq!(by("white:").colors, None);
+}
+
+/// KHR_materials_clearcoat (issue 50): a factor >= 0.5 puts the base lobe under a coat of IOR
+/// 1.5 and GGX alpha = clearcoatRoughnessFactor^2; a smaller factor leaves it uncoated; bad
+/// factors and texture indices are errors naming the JSON pointer; the coat's normal map is a
+/// warning; the extension may be required.
+#[test]
+fn clearcoat_makes_coated_materials() {
+    let ext = |cc: &str| {
+        format!(
+            r#"{{"name":"paint","pbrMetallicRoughness":{{"baseColorFactor":[0.8,0.1,0.1,1],"metallicFactor":0}},"extensions":{{"KHR_materials_clearcoat":{cc}}}}}"#
+        )
+    };
+    let scene = |cc: &str, required: bool| {
+        let mut w = GltfWriter::new();
+        w.use_extension("KHR_materials_clearcoat", required);
+        let m = GltfWriter::push(&mut w.materials, &ext(cc));
+        let p = triangle(&mut w, Some(m));
+        let mesh = w.mesh("tri", &[p]);
+        let n = node(&mut w, &format!("{{\"mesh\":{mesh}}}"));
+        w.roots.push(n);
+        w
+    };
+    let d = Dir::new();
+    let s = import(&d.gltf("coat", &scene(r#"{"clearcoatFactor":1,"clearcoatRoughnessFactor":0.2}"#, true)));
+    match &s.materials[0].material {
+        Material::Coated { coating, base, two_sided } => {
+            assert!((coating.ior - 1.5).abs() < 1e-6 && (coating.alpha - 0.04).abs() < 1e-6 && *two_sided);
+            assert!(matches!(base.as_ref(), Material::Diffuse { .. }));
+        }
+        m => panic!("{m:?}"),
+    }
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    let thin = import(&d.gltf("thin", &scene(r#"{"clearcoatFactor":0.3}"#, false)));
+    assert!(matches!(thin.materials[0].material, Material::Diffuse { .. }));
+    let normal =
+        import(&d.gltf("normal", &scene(r#"{"clearcoatFactor":1,"clearcoatNormalTexture":{"index":0}}"#, false)));
+    assert!(normal.warnings.iter().any(|w| w.contains("clearcoatNormalTexture")), "{:?}", normal.warnings);
+    let (_, e) = import_err(&d.gltf("bad", &scene(r#"{"clearcoatFactor":2}"#, false)));
+    assert!(
+        e.contains("/materials/0/extensions/KHR_materials_clearcoat/clearcoatFactor") && e.contains("[0, 1]"),
+        "{e}"
+    );
+    let (_, e) = import_err(&d.gltf("tex", &scene(r#"{"clearcoatFactor":1,"clearcoatTexture":{"index":7}}"#, false)));
+    assert!(e.contains("/materials/0/extensions/KHR_materials_clearcoat/clearcoatTexture/index"), "{e}");
 }

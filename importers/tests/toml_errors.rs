@@ -130,13 +130,33 @@ fn material_validation_is_reported_at_the_material() {
     let (t, e) = bad_extra("[materials.bad]\ntype = \"dielectric\"\nior = 1.5\nalpha = -0.1\n", &[]);
     assert_at(&e, "scene.toml", line_of(&t, "alpha = -0.1"), &[">= 0"]);
     let (t, e) = bad_extra("[materials.bad]\ntype = \"plastic\"\n", &[]);
-    assert_at(&e, "scene.toml", line_of(&t, "plastic"), &["diffuse, conductor, dielectric"]);
+    assert_at(&e, "scene.toml", line_of(&t, "plastic"), &["diffuse, conductor, dielectric, coated"]);
     let (t, e) = bad_extra("[materials.bad]\nreflectance = 1\n", &[]);
     assert_at(&e, "scene.toml", line_of(&t, "[materials.bad]"), &["missing key `type`"]);
     let (t, e) = bad_extra("[materials.bad]\nfile = \"lightguide.toml\"\n", &[]);
     assert_at(&e, "scene.toml", line_of(&t, "file ="), &["does not exist", "lightguide.toml"]);
     let (t, e) = bad_extra("[materials.bad]\ntype = \"diffuse\"\n", &[]);
     assert_at(&e, "scene.toml", line_of(&t, "[materials.bad]"), &["missing key `reflectance`"]);
+}
+
+/// `type = "coated"` (issue 50): its base, IOR and absorption keys are checked where they stand.
+#[test]
+fn coated_material_errors() {
+    let coat = |body: &str| bad_extra(&format!("[materials.bad]\ntype = \"coated\"\n{body}"), &[]);
+    let (t, e) = coat("ior = 1.5\n");
+    assert_at(&e, "scene.toml", line_of(&t, "[materials.bad]"), &["missing key `base`"]);
+    let (t, e) = coat("base = { type = \"dielectric\", ior = 1.5 }\n");
+    assert_at(&e, "scene.toml", line_of(&t, "base = "), &["diffuse or conductor", "opaque tabulated"]);
+    let (t, e) = coat("base = { type = \"diffuse\", reflectance = 2 }\n");
+    assert_at(&e, "scene.toml", line_of(&t, "base = "), &["[0, 1]"]);
+    let (t, e) = coat("ior = 0.5\nbase = { type = \"diffuse\", reflectance = 0.5 }\n");
+    assert_at(&e, "scene.toml", line_of(&t, "ior = 0.5"), &["[1, 4]"]);
+    let (t, e) = coat("absorption = 100\nbase = { type = \"diffuse\", reflectance = 0.5 }\n");
+    assert_at(&e, "scene.toml", line_of(&t, "absorption = 100"), &["needs the coat's `thickness`"]);
+    let (t, e) = coat("thickness = 0.001\nbase = { type = \"diffuse\", reflectance = 0.5 }\n");
+    assert_at(&e, "scene.toml", line_of(&t, "thickness"), &["goes with `absorption`"]);
+    let (t, e) = coat("base = { type = \"diffuse\", reflectance = 0.5 }\ncolour = 1\n");
+    assert_at(&e, "scene.toml", line_of(&t, "colour"), &["unknown key"]);
 }
 
 #[test]

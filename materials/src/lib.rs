@@ -6,6 +6,7 @@
 
 pub mod absorption;
 pub mod bsdf;
+pub mod coating;
 pub mod frame;
 pub mod material;
 pub mod non_uniformity;
@@ -18,7 +19,8 @@ pub mod warp;
 
 pub use absorption::Absorption;
 pub use bsdf::microfacet::Masking;
-pub use bsdf::{Bsdf, BsdfSample, Lobe, TabulatedBsdf, TransportMode};
+pub use bsdf::{Bsdf, BsdfSample, CoatedBsdf, Lobe, TabulatedBsdf, TransportMode};
+pub use coating::{CoatAbsorption, Coating};
 pub use frame::Frame;
 pub use material::{ConductorFresnel, Ior, Material};
 pub use non_uniformity::{NARROW_KAPPA, NonUniformity};

@@ -4,8 +4,10 @@ use crate::bsdf::microfacet::Masking;
 use crate::bsdf::{Bsdf, ConductorBsdf, DielectricBsdf, DiffuseBsdf, SampledFresnel, TrowbridgeReitz};
 use std::sync::Arc;
 
-use crate::bsdf::TabulatedBsdf;
-use crate::spectrum::{LAMBDA_MAX, LAMBDA_MIN, SampledWavelengths, Spectrum};
+use crate::bsdf::microfacet::SMOOTH_ALPHA;
+use crate::bsdf::{CoatBase, CoatedBsdf, TabulatedBsdf};
+use crate::coating::{CoatAbsorption, Coating, coat_alpha};
+use crate::spectrum::{LAMBDA_MAX, LAMBDA_MIN, SampledSpectrum, SampledWavelengths, Spectrum};
 use crate::tabulated::TabulatedTable;
 
 /// Fresnel reflectance model of a conductor.
@@ -75,6 +77,25 @@ pub enum Material {
     },
     /// Tabulated spectral BRDF/BTDF (validated on load, shared between threads).
     Tabulated(Arc<TabulatedTable>),
+    /// A dielectric coat (clear coat, lacquer, varnish) over an opaque `base`: a diffuse, a
+    /// conductor (rendered at alpha >= 1e-3 under a coat) or a tabulated reflector
+    /// ([`CoatedBsdf`], Weidlich & Wilkie 2007).
+    Coated {
+        /// The coat.
+        coating: Coating,
+        /// What lies under it.
+        base: Box<Material>,
+        /// Coated on both sides (else black from behind).
+        two_sided: bool,
+    },
+}
+
+/// A conductor's Fresnel model at the path's wavelengths.
+fn sampled_fresnel(fresnel: &ConductorFresnel, wl: &SampledWavelengths) -> SampledFresnel {
+    match fresnel {
+        ConductorFresnel::Constant(r) => SampledFresnel::Constant(r.sample(wl)),
+        ConductorFresnel::Complex { eta, k } => SampledFresnel::Complex { eta: eta.sample(wl), k: k.sample(wl) },
+    }
 }
 
 /// Smallest IOR (and |eta + i k|) accepted by [`Material::validate`]: below it 1/eta overflows
@@ -157,6 +178,33 @@ impl Material {
                 })
             }
             Material::Tabulated(t) => Bsdf::Tabulated(TabulatedBsdf::new(t, wl)),
+            Material::Coated { coating, base, two_sided } => {
+                let base = match base.as_ref() {
+                    Material::Diffuse { reflectance, .. } => {
+                        CoatBase::Diffuse(DiffuseBsdf::new(reflectance.sample(wl), true))
+                    }
+                    Material::Conductor { alpha, fresnel, .. } => CoatBase::Conductor(ConductorBsdf::new(
+                        TrowbridgeReitz::new(alpha.max(SMOOTH_ALPHA)).with_masking(masking),
+                        sampled_fresnel(fresnel, wl),
+                        true,
+                    )),
+                    Material::Tabulated(t) if !t.has_transmission() => CoatBase::Tabulated(TabulatedBsdf::new(t, wl)),
+                    _ => return Bsdf::Black,
+                };
+                let (depth, interreflection) = match &coating.absorption {
+                    Some(a) => (a.depth.sample(wl), a.interreflection.sample(wl)),
+                    None => (SampledSpectrum::zero(), SampledSpectrum::one()),
+                };
+                Bsdf::Coated(CoatedBsdf::new(
+                    TrowbridgeReitz::new(coat_alpha(coating.alpha)).with_masking(masking),
+                    coating.ior,
+                    coating.albedo_row(),
+                    depth,
+                    interreflection,
+                    base,
+                    *two_sided,
+                ))
+            }
         }
     }
 
@@ -183,6 +231,14 @@ impl Material {
                 transmittance: transmittance.as_ref().map(Spectrum::densified),
             },
             Material::Tabulated(_) => self.clone(),
+            Material::Coated { coating, base, two_sided } => Material::Coated {
+                coating: coating.clone().with_absorption(coating.absorption.as_ref().map(|a| CoatAbsorption {
+                    depth: a.depth.densified(),
+                    interreflection: a.interreflection.densified(),
+                })),
+                base: Box::new(base.densified()),
+                two_sided: *two_sided,
+            },
         }
     }
 
@@ -231,6 +287,20 @@ impl Material {
             }
             // Validated when the table was built (TabulatedTable::new).
             Material::Tabulated(_) => Ok(()),
+            Material::Coated { coating, base, .. } => {
+                coating.validate()?;
+                match base.as_ref() {
+                    Material::Diffuse { .. } | Material::Conductor { .. } => {}
+                    Material::Tabulated(t) if !t.has_transmission() => {}
+                    Material::Tabulated(_) => {
+                        return Err("a coat's base must be opaque: this tabulated BSDF transmits".into());
+                    }
+                    Material::Dielectric { .. } | Material::Coated { .. } => {
+                        return Err("a coat's base must be a diffuse, conductor or tabulated reflector".into());
+                    }
+                }
+                base.validate().map_err(|e| format!("coat base: {e}"))
+            }
         }
     }
 
@@ -238,7 +308,7 @@ impl Material {
     /// dielectric with effectively smooth alpha (< 1e-3), or an index-matched (IOR 1) dielectric.
     pub fn is_specular(&self) -> bool {
         match self {
-            Material::Diffuse { .. } | Material::Tabulated(_) => false,
+            Material::Diffuse { .. } | Material::Tabulated(_) | Material::Coated { .. } => false,
             Material::Conductor { alpha, .. } => TrowbridgeReitz::new(*alpha).effectively_smooth(),
             Material::Dielectric { ior, alpha, .. } => {
                 TrowbridgeReitz::new(*alpha).effectively_smooth() || *ior == Ior::Constant(1.0)

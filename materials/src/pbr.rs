@@ -12,10 +12,15 @@
 //!   F0 = base colour (bounded RGB uplift).
 //! - otherwise -> [`Material::Diffuse`] (Lambertian) with reflectance = base colour; the
 //!   dielectric specular layer (F0 = 0.04) is dropped.
+//! - `clearcoat >= 0.5` (KHR_materials_clearcoat) puts the metal or the diffuse lobe under a
+//!   [`Material::Coated`] coat of IOR 1.5 (the extension's) and GGX alpha
+//!   `clearcoat_roughness^2`; a coat over glass is dropped (the importer warns). A factor below
+//!   0.5 leaves the surface uncoated: as for the lobes above, the dominant layer is rendered.
 //!
 //! In every case the GGX alpha is `roughness^2` (the glTF convention) and surfaces reflect on
 //! both sides.
 
+use crate::coating::Coating;
 use crate::material::{ConductorFresnel, Ior, Material};
 use crate::spectrum::Spectrum;
 
@@ -35,11 +40,23 @@ pub struct PbrParams {
     pub transmission: f32,
     /// KHR_materials_ior (relative IOR of the inside, >= 1).
     pub ior: f32,
+    /// KHR_materials_clearcoat `clearcoatFactor` in [0, 1] (0: no coat).
+    pub clearcoat: f32,
+    /// KHR_materials_clearcoat `clearcoatRoughnessFactor` in [0, 1] (GGX alpha = its square).
+    pub clearcoat_roughness: f32,
 }
 
 impl Default for PbrParams {
     fn default() -> Self {
-        Self { base_color: [1.0; 3], metallic: 1.0, roughness: 1.0, transmission: 0.0, ior: 1.5 }
+        Self {
+            base_color: [1.0; 3],
+            metallic: 1.0,
+            roughness: 1.0,
+            transmission: 0.0,
+            ior: 1.5,
+            clearcoat: 0.0,
+            clearcoat_roughness: 0.0,
+        }
     }
 }
 
@@ -71,10 +88,16 @@ fn pbr_material_with(p: &PbrParams, uplift: impl Fn([f32; 3]) -> Spectrum) -> Ma
         return Material::Dielectric { ior: Ior::Constant(ior), alpha, transmittance };
     }
     let base = uplift(colour);
-    if metallic >= PBR_LOBE_THRESHOLD {
+    let base = if metallic >= PBR_LOBE_THRESHOLD {
         Material::Conductor { alpha, fresnel: ConductorFresnel::Constant(base), two_sided: true }
     } else {
         Material::Diffuse { reflectance: base, two_sided: true }
+    };
+    if unit(p.clearcoat) >= PBR_LOBE_THRESHOLD {
+        let r = unit(p.clearcoat_roughness);
+        Material::Coated { coating: Coating::clear(r * r), base: Box::new(base), two_sided: true }
+    } else {
+        base
     }
 }
 

@@ -91,8 +91,9 @@ fn mapped(r: &TextureRef, uv: Vec2) -> Vec2 {
 }
 
 /// A glTF metallic-roughness material with textures: its factors, multiplied per hit by the
-/// base-colour texel (sRGB) and the metallic (blue) / roughness (green) texel (linear), and its
-/// tangent-space normal map.
+/// base-colour texel (sRGB), the metallic (blue) / roughness (green) texel (linear) and the
+/// clear coat's factor (red) and roughness (green) texels (linear), and its tangent-space
+/// normal map.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TexturedMaterial {
     factors: PbrParams,
@@ -100,6 +101,8 @@ pub struct TexturedMaterial {
     metallic_roughness: Option<TextureRef>,
     normal: Option<TextureRef>,
     normal_scale: f32,
+    clearcoat: Option<TextureRef>,
+    clearcoat_roughness: Option<TextureRef>,
 }
 
 impl TexturedMaterial {
@@ -111,6 +114,8 @@ impl TexturedMaterial {
             metallic_roughness: t.metallic_roughness,
             normal: t.normal,
             normal_scale: t.normal_scale,
+            clearcoat: t.clearcoat,
+            clearcoat_roughness: t.clearcoat_roughness,
         })
     }
 
@@ -132,6 +137,16 @@ impl TexturedMaterial {
             let c = t.sample(mapped(r, uv), false);
             p.roughness *= c[1];
             p.metallic *= c[2];
+        }
+        if let Some(r) = &self.clearcoat
+            && let Some(t) = textures.get(r.texture)
+        {
+            p.clearcoat *= t.sample(mapped(r, uv), false)[0];
+        }
+        if let Some(r) = &self.clearcoat_roughness
+            && let Some(t) = textures.get(r.texture)
+        {
+            p.clearcoat_roughness *= t.sample(mapped(r, uv), false)[1];
         }
         p
     }
@@ -194,10 +209,23 @@ mod tests {
             metallic_roughness: mr,
             normal: Some(white),
             normal_scale: 0.5,
+            clearcoat: None,
+            clearcoat_roughness: None,
         };
         let t = TexturedMaterial::new(&m(Some(white), Some(black))).unwrap();
         let p = t.params_at(&textures, Vec2::new(0.1, 0.9));
         assert_eq!((p.base_color, p.metallic, p.roughness), ([0.5, 0.25, 1.0], 0.0, 0.0));
+        // the clear coat's factor (red) and roughness (green) texels
+        let coat = PbrParams { clearcoat: 1.0, clearcoat_roughness: 0.5, ..factors };
+        let t = TexturedMaterial::new(&MaterialTextures {
+            pbr: Some(coat),
+            clearcoat: Some(black),
+            clearcoat_roughness: Some(white),
+            ..m(None, None)
+        })
+        .unwrap();
+        let p = t.params_at(&textures, Vec2::ZERO);
+        assert_eq!((p.clearcoat, p.clearcoat_roughness), (0.0, 0.5));
         assert_eq!(t.normal_at(&textures, Vec2::ZERO), Some(Vec3::new(0.5, 0.5, 1.0)));
         // a reference to a texture that is not there leaves the factor
         let missing = TextureRef::new(7);

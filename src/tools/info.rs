@@ -135,6 +135,16 @@ pub fn describe_material(m: &Material) -> String {
                 transmittance.as_ref().map_or(String::new(), |t| format!(", transmittance {}", describe_spectrum(t)));
             format!("dielectric, {}, {n}{tint}", roughness(*alpha))
         }
+        Material::Coated { coating, base, two_sided } => {
+            let absorbs = if coating.absorption.is_some() { ", absorbing" } else { "" };
+            format!(
+                "coated (ior {}, {}{absorbs}) over [{}]{}",
+                num(coating.ior),
+                roughness(coating.alpha),
+                describe_material(base),
+                sided(*two_sided)
+            )
+        }
         Material::Tabulated(t) => {
             let spec = t.spec();
             format!(

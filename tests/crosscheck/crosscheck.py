@@ -59,6 +59,7 @@ SCENES = [
     "scenes/tests/absorbing-glass.toml",
     "scenes/tests/scattering-slab.toml",
     "scenes/tests/absorbing-rod.toml",
+    "scenes/tests/coated-plastic.toml",
 ]
 
 

@@ -28,6 +28,48 @@ fn finite(v: f32, default: f32) -> f32 {
     if v.is_finite() { v } else { default }
 }
 
+/// Reads KHR_materials_clearcoat (the JSON object `cc` at `ptr`) into the factors and textures:
+/// `clearcoatFactor`, `clearcoatRoughnessFactor` (numbers in [0, 1], 0 by default),
+/// `clearcoatTexture` (red) and `clearcoatRoughnessTexture` (green); `clearcoatNormalTexture`
+/// is not read (a warning: the coat takes the base's shading normal).
+fn clearcoat(
+    cc: &serde_json::Value,
+    ptr: &str,
+    p: &mut PbrParams,
+    textures: &mut MaterialTextures,
+    loader: &mut TextureLoader<'_>,
+) -> Result<(), ImportError> {
+    let factor = |key: &str| -> Result<f32, ImportError> {
+        match cc.get(key) {
+            None => Ok(0.0),
+            Some(v) => match v.as_f64() {
+                Some(x) if (0.0..=1.0).contains(&x) => Ok(x as f32),
+                _ => Err(super::err(
+                    crate::error::ImportErrorKind::InvalidValue,
+                    loader.file,
+                    &format!("{ptr}/{key}"),
+                    format!("must be a number in [0, 1], got {v}"),
+                )),
+            },
+        }
+    };
+    p.clearcoat = factor("clearcoatFactor")?;
+    p.clearcoat_roughness = factor("clearcoatRoughnessFactor")?;
+    if let Some(t) = cc.get("clearcoatTexture") {
+        textures.clearcoat = Some(loader.reference_json(t, &format!("{ptr}/clearcoatTexture"))?);
+    }
+    if let Some(t) = cc.get("clearcoatRoughnessTexture") {
+        textures.clearcoat_roughness = Some(loader.reference_json(t, &format!("{ptr}/clearcoatRoughnessTexture"))?);
+    }
+    if cc.get("clearcoatNormalTexture").is_some() {
+        loader.warnings.push(format!(
+            "{}: {ptr}/clearcoatNormalTexture: not supported; the coat takes the base's shading normal",
+            loader.file.display()
+        ));
+    }
+    Ok(())
+}
+
 /// Converts glTF material `m` (`None` = the glTF default material). `taken` tells which names
 /// are already used; `metres` is the length of one glTF unit in metres (`--units`).
 pub(super) fn convert(
@@ -63,6 +105,7 @@ pub(super) fn convert(
         roughness: finite(pbr.roughness_factor(), 1.0),
         transmission: 0.0,
         ior: 1.5,
+        ..PbrParams::default()
     };
     if let Some(t) = m.transmission() {
         p.transmission = finite(t.transmission_factor(), 0.0);
@@ -115,7 +158,24 @@ pub(super) fn convert(
         textures.normal = Some(crate::texture_desc::TextureRef::new(r));
         textures.normal_scale = finite(n.scale(), 1.0);
     }
-    if textures.base_color.is_some() || textures.metallic_roughness.is_some() || textures.normal.is_some() {
+    if let Some(cc) = m.extensions().and_then(|e| e.get("KHR_materials_clearcoat")) {
+        clearcoat(cc, &format!("{ptr}/extensions/KHR_materials_clearcoat"), &mut p, &mut textures, loader)?;
+        if p.clearcoat >= quasar_materials::pbr::PBR_LOBE_THRESHOLD
+            && p.transmission >= quasar_materials::pbr::PBR_LOBE_THRESHOLD
+            && p.metallic < quasar_materials::pbr::PBR_LOBE_THRESHOLD
+        {
+            loader.warnings.push(format!(
+                "{}: {ptr}: a clear coat over a transmissive material is not rendered (the glass is)",
+                file.display()
+            ));
+        }
+    }
+    if textures.base_color.is_some()
+        || textures.metallic_roughness.is_some()
+        || textures.normal.is_some()
+        || textures.clearcoat.is_some()
+        || textures.clearcoat_roughness.is_some()
+    {
         textures.pbr = Some(p);
     }
     let strength = finite(m.emissive_strength().unwrap_or(1.0), 1.0).max(0.0);

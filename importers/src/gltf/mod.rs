@@ -45,8 +45,9 @@ use crate::scene_desc::{MaterialDesc, NamedCamera, SceneDesc};
 use crate::texture_desc::MaterialTextures;
 
 /// glTF extensions the importer understands (mapped or approximated as documented).
-pub const SUPPORTED_EXTENSIONS: [&str; 7] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 8] = [
     "KHR_lights_punctual",
+    "KHR_materials_clearcoat",
     "KHR_materials_emissive_strength",
     "KHR_materials_ior",
     "KHR_materials_specular",
@@ -223,6 +224,7 @@ pub fn import_gltf(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, Impor
     // materials used by the meshes, in glTF order, then the default material if needed
     let mut loader = TextureLoader {
         file: path,
+        doc: &doc,
         opts,
         buffers: &buffers,
         textures: Vec::new(),

@@ -26,6 +26,8 @@ fn wrap(m: WrappingMode) -> TextureWrap {
 pub(super) struct TextureLoader<'a> {
     /// The glTF file.
     pub file: &'a Path,
+    /// The glTF document (textures by index, for extensions the gltf crate gives as JSON).
+    pub doc: &'a gltf::Document,
     /// Import options (path policy).
     pub opts: &'a ImportOptions,
     /// Buffer data by index.
@@ -39,6 +41,30 @@ pub(super) struct TextureLoader<'a> {
 }
 
 impl TextureLoader<'_> {
+    /// The scene texture of a `textureInfo` given as JSON (an extension's), at JSON pointer
+    /// `pointer`: its `index` must name a texture; `texCoord` other than 0 and
+    /// `KHR_texture_transform` are not read there (a warning says so).
+    pub fn reference_json(&mut self, info: &serde_json::Value, pointer: &str) -> Result<TextureRef, ImportError> {
+        let index = info.get("index").and_then(serde_json::Value::as_u64);
+        let Some(tex) = index.and_then(|i| self.doc.textures().nth(i as usize)) else {
+            return Err(err(
+                ImportErrorKind::InvalidValue,
+                self.file,
+                &format!("{pointer}/index"),
+                "a texture reference needs the index of one of the file's textures",
+            ));
+        };
+        if info.get("texCoord").and_then(serde_json::Value::as_u64).is_some_and(|c| c != 0)
+            || info.get("extensions").is_some()
+        {
+            self.warnings.push(format!(
+                "{}: {pointer}: only TEXCOORD_0 without KHR_texture_transform is read for this texture",
+                self.file.display()
+            ));
+        }
+        Ok(TextureRef::new(self.load(&tex, pointer)?))
+    }
+
     /// The scene texture for a glTF texture reference (`pointer` = the JSON pointer of the
     /// `textureInfo`), with its KHR_texture_transform.
     pub fn reference(&mut self, info: &gltf::texture::Info<'_>, pointer: &str) -> Result<TextureRef, ImportError> {

@@ -1,9 +1,9 @@
-//! `[materials.NAME]` tables: `type = "diffuse" | "conductor" | "dielectric"`, or
+//! `[materials.NAME]` tables: `type = "diffuse" | "conductor" | "dielectric" | "coated"`, or
 //! `file = "x.toml"` for a tabulated BSDF (see `crate::bsdf_file`); a transmitting one (a
 //! dielectric or a tabulated BSDF) may absorb inside (`absorption`, or `internal_transmittance`
 //! at a `thickness`) and scatter (`scattering` with `phase_g`).
 
-use quasar_materials::{Absorption, ConductorFresnel, Ior, Material, Scattering};
+use quasar_materials::{Absorption, CoatAbsorption, Coating, ConductorFresnel, Ior, Material, Scattering};
 use toml::de::DeValue;
 
 use super::spectrum::{SpectrumUse, spectrum};
@@ -11,7 +11,7 @@ use crate::error::{ImportError, ImportErrorKind, did_you_mean};
 use crate::toml_reader::{Tbl, Val, float, floats, string};
 
 /// Material types of the TOML format.
-pub const MATERIAL_TYPES: [&str; 3] = ["diffuse", "conductor", "dielectric"];
+pub const MATERIAL_TYPES: [&str; 4] = ["diffuse", "conductor", "dielectric", "coated"];
 
 /// Glass names that [`Ior::named`] knows (for suggestions in messages).
 const GLASS_NAMES: [&str; 10] =
@@ -175,6 +175,7 @@ pub(crate) fn material(t: &Tbl<'_>, unit: f32) -> Result<(Material, Interior), I
             };
             Material::Conductor { alpha: alpha(t)?, fresnel, two_sided: t.opt_bool("two_sided")?.unwrap_or(true) }
         }
+        "coated" => coated(t, unit)?,
         _ => {
             t.check_keys(&[&["type", "ior", "alpha", "roughness", "transmittance"][..], &ABSORPTION_KEYS].concat())?;
             let v = t.req("ior")?;
@@ -189,6 +190,55 @@ pub(crate) fn material(t: &Tbl<'_>, unit: f32) -> Result<(Material, Interior), I
         .map_err(|e| doc.invalid(&t.span, format!("material `{}`: {e}", t.path.trim_start_matches("materials."))))?;
     let absorbs = if matches!(m, Material::Dielectric { .. }) { interior(t, unit)? } else { Interior::default() };
     Ok((m, absorbs))
+}
+
+/// `type = "coated"`: a coat of `ior` (a number, 1.5 by default), `alpha`/`roughness`, and
+/// optionally `absorption` (1/m) over `thickness` (the coat's, in the scene's units) over the
+/// `base` table (a diffuse or conductor material, or `file` = an opaque tabulated BSDF).
+fn coated(t: &Tbl<'_>, unit: f32) -> Result<Material, ImportError> {
+    let doc = t.doc;
+    t.check_keys(&["type", "ior", "alpha", "roughness", "absorption", "thickness", "base", "two_sided"])?;
+    let ior = t
+        .opt_f32_where("ior", "a number in [1, 4]", |n| (1.0..=quasar_materials::coating::MAX_COAT_IOR).contains(&n))?
+        .unwrap_or(1.5);
+    let absorption = match t.get("absorption") {
+        Some(v) => {
+            let sigma_a = spectrum(doc, v, &t.key_path("absorption"), SpectrumUse::Quantity)?;
+            if !t.has("thickness") {
+                return Err(doc.invalid(&v.span(), format!("`{}`: `absorption` needs the coat's `thickness`", t.path)));
+            }
+            let thickness = super::shape::positive_length(t, "thickness", unit)?;
+            Absorption::Coefficient(sigma_a.clone())
+                .validate()
+                .map_err(|e| doc.invalid(&v.span(), format!("`{}`: {e}", t.key_path("absorption"))))?;
+            Some(CoatAbsorption::new(&sigma_a, thickness, ior))
+        }
+        None if t.has("thickness") => {
+            return Err(
+                doc.invalid(&t.key_span("thickness"), format!("`{}`: `thickness` goes with `absorption`", t.path))
+            );
+        }
+        None => None,
+    };
+    let Some(b) = t.opt_table("base")? else {
+        return Err(t.missing("base"));
+    };
+    let base = if b.has("file") || b.opt_str("type")?.is_some_and(|ty| ty != "dielectric" && ty != "coated") {
+        material(&b, unit)?.0
+    } else {
+        return Err(doc.invalid(
+            &b.span,
+            format!(
+                "`{}`: a coat's base is a diffuse or conductor material, or an opaque tabulated BSDF (`file`)",
+                b.path
+            ),
+        ));
+    };
+    Ok(Material::Coated {
+        coating: Coating::new(ior, alpha(t)?, absorption),
+        base: Box::new(base),
+        two_sided: t.opt_bool("two_sided")?.unwrap_or(true),
+    })
 }
 
 /// `ior = 1.5 | "BK7" | { cauchy = [a, b] } | { sellmeier = { b = [...], c = [...] } }`.

@@ -196,6 +196,8 @@ pub(super) fn convert(
     let mut roughness = scalar(&ps.roughness, "roughness", 0.5, &mut textured);
     let opacity = scalar(&ps.opacity, "opacity", 1.0, &mut textured);
     let ior = scalar(&ps.ior, "ior", 1.5, &mut textured);
+    let clearcoat = scalar(&ps.clearcoat, "clearcoat", 0.0, &mut textured);
+    let clearcoat_roughness = scalar(&ps.clearcoat_roughness, "clearcoatRoughness", 0.01, &mut textured);
     let _ = color(&ps.normal, "normal", [0.0; 3], &mut textured);
     let mut maps = MaterialTextures::default();
     let ignored_bias = |t: &UvTexture, w: &mut Vec<String>| {
@@ -253,7 +255,6 @@ pub(super) fn convert(
     }
     let unread: Vec<&str> = [
         (ps.specular_color.is_set(), "specularColor (specular workflow)"),
-        (ps.clearcoat.is_set(), "clearcoat"),
         (ps.opacity_threshold.is_set(), "opacityThreshold"),
     ]
     .into_iter()
@@ -268,6 +269,8 @@ pub(super) fn convert(
         roughness,
         transmission: (1.0 - opacity).clamp(0.0, 1.0),
         ior: if ior.is_finite() && ior >= 1.0 { ior } else { 1.5 },
+        clearcoat,
+        clearcoat_roughness,
     };
     if maps.base_color.is_some() || maps.metallic_roughness.is_some() || maps.normal.is_some() {
         maps.pbr = Some(params);

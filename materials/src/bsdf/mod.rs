@@ -6,6 +6,7 @@ use glam::Vec3;
 
 use crate::spectrum::SampledSpectrum;
 
+pub mod coated;
 pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
@@ -13,6 +14,7 @@ pub mod fresnel;
 pub mod microfacet;
 pub mod tabulated;
 
+pub use coated::{CoatBase, CoatedBsdf};
 pub use conductor::ConductorBsdf;
 pub use dielectric::DielectricBsdf;
 pub use diffuse::DiffuseBsdf;
@@ -103,6 +105,8 @@ pub enum Bsdf<'a> {
     Dielectric(DielectricBsdf),
     /// Tabulated spectral BRDF/BTDF (measured or generated data).
     Tabulated(TabulatedBsdf<'a>),
+    /// A dielectric coat over an opaque base (layered, position-free).
+    Coated(CoatedBsdf<'a>),
 }
 
 impl Bsdf<'_> {
@@ -121,6 +125,7 @@ impl Bsdf<'_> {
             Bsdf::Conductor(b) => Some(Bsdf::Conductor(b)),
             Bsdf::Dielectric(b) => Some(Bsdf::Dielectric(b)),
             Bsdf::Tabulated(_) => None,
+            Bsdf::Coated(b) => b.detached().map(Bsdf::Coated),
         }
     }
 
@@ -132,6 +137,7 @@ impl Bsdf<'_> {
             Bsdf::Conductor(b) => b.f(wo, wi),
             Bsdf::Dielectric(b) => b.f(wo, wi, mode),
             Bsdf::Tabulated(b) => b.f(wo, wi, mode),
+            Bsdf::Coated(b) => b.f(wo, wi, mode),
         }
     }
 
@@ -145,6 +151,7 @@ impl Bsdf<'_> {
             Bsdf::Conductor(b) => b.f_pdf(wo, wi),
             Bsdf::Dielectric(b) => b.f_pdf(wo, wi, mode),
             Bsdf::Tabulated(b) => (b.f(wo, wi, mode), b.pdf(wo, wi, mode)),
+            Bsdf::Coated(b) => b.f_pdf(wo, wi, mode),
         }
     }
 
@@ -158,6 +165,7 @@ impl Bsdf<'_> {
             Bsdf::Conductor(b) => b.sample_f(wo, u, mode),
             Bsdf::Dielectric(b) => b.sample_f(wo, uc, u, mode),
             Bsdf::Tabulated(b) => b.sample_f(wo, uc, u, mode),
+            Bsdf::Coated(b) => b.sample_f(wo, uc, u, mode),
         }
     }
 
@@ -169,6 +177,7 @@ impl Bsdf<'_> {
             Bsdf::Conductor(b) => b.pdf(wo, wi),
             Bsdf::Dielectric(b) => b.pdf(wo, wi, mode),
             Bsdf::Tabulated(b) => b.pdf(wo, wi, mode),
+            Bsdf::Coated(b) => b.pdf(wo, wi, mode),
         }
     }
 
@@ -176,7 +185,7 @@ impl Bsdf<'_> {
     /// [`Bsdf::Black`] has no lobes and reports false (like pbrt-v4's empty flags).
     pub fn is_specular(&self) -> bool {
         match self {
-            Bsdf::Black | Bsdf::Diffuse(_) | Bsdf::Tabulated(_) => false,
+            Bsdf::Black | Bsdf::Diffuse(_) | Bsdf::Tabulated(_) | Bsdf::Coated(_) => false,
             Bsdf::Conductor(b) => b.is_specular(),
             Bsdf::Dielectric(b) => b.is_specular(),
         }
@@ -199,7 +208,7 @@ impl Bsdf<'_> {
         let mirror = Vec3::new(-wo.x, -wo.y, wo.z);
         match self {
             Bsdf::Black | Bsdf::Diffuse(_) => (None, None),
-            Bsdf::Conductor(_) => (Some(mirror), None),
+            Bsdf::Conductor(_) | Bsdf::Coated(_) => (Some(mirror), None),
             Bsdf::Dielectric(b) => (Some(mirror), refract(wo, Vec3::Z, b.eta).map(|(wt, _)| wt.normalize())),
             Bsdf::Tabulated(b) => {
                 let t = b.has_transmission().then(|| refract(wo, Vec3::Z, b.eta()).map(|(wt, _)| wt.normalize()));
@@ -261,6 +270,19 @@ mod tests {
         for eta in [1.0f32, 1.0001, 1.5, 4.0, 0.25] {
             for alpha in [0.0f32, 1e-4, 1e-3, 0.01, 0.3, 1.0] {
                 v.push(Bsdf::Dielectric(DielectricBsdf::new(eta, TrowbridgeReitz::new(alpha))));
+            }
+        }
+        for eta in [1.0f32, 1.5, 4.0] {
+            for alpha in [0.0f32, 0.01, 1.0] {
+                let row = crate::coating::CoatAlbedo::for_eta(eta).row(alpha);
+                let coat = TrowbridgeReitz::new(crate::coating::coat_alpha(alpha));
+                for (base, depth) in [
+                    (CoatBase::Diffuse(DiffuseBsdf::new(SampledSpectrum::one(), true)), 0.0f32),
+                    (CoatBase::Conductor(ConductorBsdf::new(TrowbridgeReitz::new(1e-3), gold, true)), 50.0),
+                ] {
+                    let d = SampledSpectrum::splat(depth);
+                    v.push(Bsdf::Coated(CoatedBsdf::new(coat, eta, row, d, SampledSpectrum::one(), base, false)));
+                }
             }
         }
         v
