@@ -376,7 +376,12 @@ scale = 0.05
 /// block z-tests against `reference` (`pt`): finite, the beauty and the first layers at 8-pixel
 /// blocks, the others at 16.
 pub fn assert_bidirectional_methods_converge(scene: &Path, reference: &JobOutput) {
-    for method in ["vismap", "adaptive", "quasi", "adaptive+quasi"] {
+    assert_methods_converge(scene, reference, &["vismap", "adaptive", "quasi", "adaptive+quasi"]);
+}
+
+/// [`assert_bidirectional_methods_converge`] for the bidirectional `methods` named.
+pub fn assert_methods_converge(scene: &Path, reference: &JobOutput, methods: &[&str]) {
+    for &method in methods {
         let img = render_file(scene, &bidir_ov(40, 30, method, 256, 20_000, 7));
         assert!(img.image.channel(quasar::film::LUMINANCE).unwrap().iter().all(|v| v.is_finite()));
         assert_converges_from(8, method, &img, reference, &ALL_QUANTITIES[..3]);
