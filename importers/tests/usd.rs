@@ -709,3 +709,55 @@ fn material_prims_carry_their_medium() {
         assert!(doc.contains(&format!("`{attr}`")) || doc.contains(&format!(" {attr}`")), "docs/usd.md lacks {attr}");
     }
 }
+
+/// UsdPreviewSurface `clearcoat` >= 0.5 coats the surface (issue 50), with GGX alpha =
+/// `clearcoatRoughness`²; the schema's defaults (no coat) leave it a diffuse.
+#[test]
+fn preview_surface_clearcoat_makes_a_coated_material() {
+    let stage = |coat: &str| {
+        format!(
+            r#"#usda 1.0
+(
+    metersPerUnit = 1
+    upAxis = "Y"
+)
+def Material "Paint"
+{{
+    token outputs:surface.connect = </Paint/Surface.outputs:surface>
+    def Shader "Surface"
+    {{
+        uniform token info:id = "UsdPreviewSurface"
+        color3f inputs:diffuseColor = (0.6, 0.05, 0.04)
+        {coat}
+        token outputs:surface
+    }}
+}}
+def Mesh "Panel" (
+    prepend apiSchemas = ["MaterialBindingAPI"]
+)
+{{
+    int[] faceVertexCounts = [3]
+    int[] faceVertexIndices = [0, 1, 2]
+    point3f[] points = [(0, 0, 0), (1, 0, 0), (0, 1, 0)]
+    rel material:binding = </Paint>
+}}
+"#
+        )
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let read = |name: &str, coat: &str| {
+        let path = dir.path().join(name);
+        std::fs::write(&path, stage(coat)).unwrap();
+        quasar_importers::import_scene(&path, &Default::default()).unwrap()
+    };
+    let s = read("coat.usda", "float inputs:clearcoat = 1\n        float inputs:clearcoatRoughness = 0.3");
+    match &s.materials[s.meshes[0].material].material {
+        quasar_materials::Material::Coated { coating, base, .. } => {
+            assert!((coating.alpha - 0.09).abs() < 1e-6 && (coating.ior - 1.5).abs() < 1e-6);
+            assert!(matches!(base.as_ref(), quasar_materials::Material::Diffuse { .. }));
+        }
+        m => panic!("{m:?}"),
+    }
+    let plain = read("plain.usda", "");
+    assert!(matches!(plain.materials[plain.meshes[0].material].material, quasar_materials::Material::Diffuse { .. }));
+}

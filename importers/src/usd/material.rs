@@ -10,6 +10,7 @@
 //! | `roughness` (0.5) | perceptual roughness (GGX alpha = roughness²) |
 //! | `opacity` (1) < 1 with `ior` (1.5) | dielectric of that IOR (transmission = 1 - opacity) |
 //! | `emissiveColor` (black) | an area light of luminance `emissiveColor` in cd/m² (as UsdLux's nits) |
+//! | `clearcoat` (0) >= 0.5, `clearcoatRoughness` (0.01) | a coat of IOR 1.5 over the surface, GGX alpha = clearcoatRoughness² |
 //!
 //! Textured inputs ([`super::texture`]): `diffuseColor` (base colour texture, `scale` as the
 //! factor), `roughness` and `metallic` (packed as glTF's metallic-roughness texture), `normal`
