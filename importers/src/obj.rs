@@ -210,7 +210,7 @@ fn convert_mtl(m: &MtlMaterial) -> Result<(Material, Option<EmissionDesc>), Impo
     let emission = match t.emissive {
         Some(ke) if ke.iter().any(|&c| c != 0.0) => {
             let s = Spectrum::rgb_illuminant(ke).map_err(|x| err("Ke", format!("Ke: {x}")))?;
-            Some(EmissionDesc { spectrum: s, scale: 1.0, two_sided: false })
+            Some(EmissionDesc { spectrum: s, scale: 1.0, two_sided: false, texture: None })
         }
         _ => None,
     };

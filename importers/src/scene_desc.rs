@@ -45,6 +45,19 @@ pub struct EmissionDesc {
     /// Emit from both faces; otherwise only towards the side the geometric normal points to
     /// (normal = (v1 - v0) x (v2 - v0), counter-clockwise winding).
     pub two_sided: bool,
+    /// A texture the emission varies with over the surface (glTF `emissiveTexture`); `spectrum`
+    /// is then its mean colour, for what needs one colour (`quasar info`, exports).
+    pub texture: Option<EmissiveTexture>,
+}
+
+/// Emission that varies over a surface: L_e = scale x the light colour of `factor` times the
+/// texel (sRGB-decoded) at the point's texture coordinates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EmissiveTexture {
+    /// The texture and its coordinate transform.
+    pub texture: crate::texture_desc::TextureRef,
+    /// Linear RGB factor on the texel (glTF `emissiveFactor` x `emissive_strength`).
+    pub factor: [f32; 3],
 }
 
 /// A triangle mesh in world space.

@@ -8,33 +8,11 @@ use quasar_materials::Frame;
 use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 
 use crate::core::alias_table::AliasTable;
+use crate::core::emission::{Emission, bary_uv};
 use crate::core::env_map::EnvMap;
 use crate::core::geometry::TriangleGeom;
 use crate::core::luminaire::Luminaire;
 use crate::core::sampling;
-
-/// Spectral emission shared by the triangles of one emissive mesh: L = scale * spectrum.
-#[derive(Clone, Debug)]
-pub struct Emission {
-    /// Spectral shape.
-    pub spectrum: Spectrum,
-    /// Factor on `spectrum`: the emitted quantity is scale x spectrum (luminance-normalised
-    /// spectra make it a luminance-equivalent value).
-    pub scale: f32,
-    /// Emits from both faces.
-    pub two_sided: bool,
-}
-
-impl Emission {
-    /// Radiance leaving a surface with unit geometric normal `ng` in direction `w`.
-    #[inline(always)]
-    pub fn radiance(&self, ng: Vec3, w: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
-        if !self.two_sided && ng.dot(w) <= 0.0 {
-            return SampledSpectrum::zero();
-        }
-        self.spectrum.sample(wl) * self.scale
-    }
-}
 
 /// An emitter (closed set, enum dispatch).
 #[derive(Clone, Debug)]
@@ -48,6 +26,11 @@ pub enum Light {
         /// The triangle's area ([`TriangleGeom::area`]), computed once (its unit normal is the
         /// triangle's own, `tri.n`).
         area: f32,
+        /// Texture coordinates of the vertices (a textured emission's; zero otherwise).
+        uv: [Vec2; 3],
+        /// The triangle's emitted power relative to its emission's nominal colour (1 without a
+        /// texture; with one, its texels' mean over the triangle over the texture's mean).
+        weight: f32,
     },
     /// Isotropic point light, intensity scale * spectrum (W/(sr nm)).
     Point {
@@ -129,9 +112,16 @@ fn smoothstep(x: f32, a: f32, b: f32) -> f32 {
 }
 
 impl Light {
-    /// The area light of triangle `tri` emitting `emission` (an index into the emission table).
+    /// The area light of triangle `tri` emitting `emission` (an index into the emission table),
+    /// untextured.
     pub fn area_triangle(tri: TriangleGeom, emission: u32) -> Self {
-        Self::Area { tri, emission, area: tri.area() }
+        Self::Area { tri, emission, area: tri.area(), uv: [Vec2::ZERO; 3], weight: 1.0 }
+    }
+
+    /// The area light of triangle `tri` with a textured emission: vertex texture coordinates
+    /// `uv` and relative power `weight` (see [`Light::Area`]).
+    pub fn area_triangle_textured(tri: TriangleGeom, emission: u32, uv: [Vec2; 3], weight: f32) -> Self {
+        Self::Area { tri, emission, area: tri.area(), uv, weight }
     }
 
     /// True for lights at infinity (seen by rays that escape the scene).
@@ -149,10 +139,10 @@ impl Light {
     /// light that emits anything has a non-zero chance of being chosen.
     pub fn power(&self, emissions: &[Emission]) -> f64 {
         let p = match self {
-            Self::Area { emission, area, .. } => {
+            Self::Area { emission, area, weight, .. } => {
                 let e = &emissions[*emission as usize];
                 let sides = if e.two_sided { 2.0 } else { 1.0 };
-                PI * sides * area * e.scale * e.spectrum.mean_value()
+                PI * sides * area * weight * e.scale * e.spectrum.mean_value()
             }
             Self::Point { spectrum, scale, .. } => 4.0 * PI * scale * spectrum.mean_value(),
             Self::Spot { spectrum, scale, cos_total, cos_falloff_start, .. } => {
@@ -174,7 +164,7 @@ impl Light {
     #[inline(always)]
     pub fn sample_li(&self, p: Vec3, u: Vec2, wl: &SampledWavelengths, emissions: &[Emission]) -> Option<LightSample> {
         match self {
-            Self::Area { tri, emission, area } => {
+            Self::Area { tri, emission, area, uv, .. } => {
                 let (area, ng) = (*area, Vec3::from(tri.n));
                 if area.is_nan() || area <= 0.0 {
                     return None;
@@ -192,7 +182,7 @@ impl Light {
                 if cos_l <= 0.0 {
                     return None;
                 }
-                let li = emissions[*emission as usize].radiance(ng, -wi, wl);
+                let li = emissions[*emission as usize].radiance(ng, -wi, bary_uv(uv, b1, b2), wl);
                 if li.is_black() {
                     return None;
                 }
@@ -323,7 +313,7 @@ impl Light {
         center: Vec3,
     ) -> Option<EmittedPhoton> {
         let photon = match self {
-            Self::Area { tri, emission, area } => {
+            Self::Area { tri, emission, area, uv, .. } => {
                 let e = &emissions[*emission as usize];
                 let area = *area;
                 if area.is_nan() || area <= 0.0 {
@@ -349,7 +339,7 @@ impl Light {
                     return None;
                 }
                 let dir = Frame::from_z(ng).from_local(local);
-                let le = e.radiance(ng, dir, wl);
+                let le = e.radiance(ng, dir, bary_uv(uv, b1, b2), wl);
                 EmittedPhoton {
                     origin: crate::core::geometry::offset_origin(p, p_err, ng, dir),
                     dir,
@@ -450,7 +440,7 @@ mod tests {
         for t in &tris {
             assert!(t.normal_unnormalised().y < 0.0);
         }
-        let em = [Emission { spectrum: Spectrum::Constant(1.0), scale: 1.0, two_sided: false }];
+        let em = [Emission { spectrum: Spectrum::Constant(1.0), scale: 1.0, two_sided: false, texture: None }];
         let lights = [Light::area_triangle(tris[0], 0), Light::area_triangle(tris[1], 0)];
         let sampler = LightSampler::new(&lights, &em);
         let wl = SampledWavelengths::sample_uniform(0.3);

@@ -5,6 +5,7 @@
 pub mod alias_table;
 pub mod bytes;
 pub mod camera;
+pub mod emission;
 pub mod env_map;
 pub mod geometry;
 pub mod interaction;

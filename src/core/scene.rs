@@ -2,7 +2,7 @@
 //! SceneDesc -> **compile** -> integrate). Nothing here knows about file formats.
 
 use std::borrow::Cow;
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 use glam::{Vec2, Vec3};
 use quasar_importers::{LightDesc, SceneDesc};
@@ -11,8 +11,9 @@ use quasar_materials::spectrum::SampledWavelengths;
 use quasar_materials::{Bsdf, Frame, Material, NonUniformity};
 use rayon::prelude::*;
 
+use crate::core::emission::{Emission, EmissionTexture, textured_weight};
 use crate::core::geometry::{Accel, Hit, NONE, Ray, TriangleGeom, TriangleInfo};
-use crate::core::light::{Emission, Light, LightSampler};
+use crate::core::light::{Light, LightSampler};
 use crate::core::texture::{ImageTexture, TexturedMaterial};
 
 use super::interaction::normal_mapped;
@@ -104,8 +105,8 @@ pub struct Scene {
     /// Per-vertex linear RGB colours, three per triangle with vertex colours and a textured
     /// (glTF per-point) material.
     pub colors: Vec<[f32; 3]>,
-    /// Image textures.
-    pub textures: Vec<ImageTexture>,
+    /// Image textures (shared with the textured emissions).
+    pub textures: Vec<Arc<ImageTexture>>,
     /// The textured form of each material (same order as `materials`; None for most).
     pub material_textures: Vec<Option<TexturedMaterial>>,
     /// Centre of the bounding sphere.
@@ -143,6 +144,7 @@ impl Scene {
         let mut normals = Vec::new();
         let mut uvs = Vec::new();
         let mut colors = Vec::new();
+        let images: Vec<Arc<ImageTexture>> = desc.textures.iter().map(|t| Arc::new(ImageTexture::new(t))).collect();
         let mut emissions = Vec::new();
         let mut lights = Vec::new();
         let mut dropped = 0usize;
@@ -172,15 +174,26 @@ impl Scene {
             let textured = !desc.materials[m.material].textures.is_empty();
             let emission = match &m.emission {
                 Some(e) if e.scale > 0.0 && e.scale.is_finite() => {
+                    // a textured emission needs the mesh's texture coordinates and its image
+                    let texture = e.texture.filter(|_| m.uvs.is_some()).and_then(|t| {
+                        Some(EmissionTexture {
+                            image: images.get(t.texture.texture)?.clone(),
+                            reference: t.texture,
+                            factor: t.factor,
+                        })
+                    });
                     emissions.push(Emission {
                         spectrum: e.spectrum.densified(),
                         scale: e.scale,
                         two_sided: e.two_sided,
+                        texture,
                     });
                     (emissions.len() - 1) as u32
                 }
                 _ => NONE,
             };
+            let emission_texture = emissions.get(emission as usize).and_then(|e| e.texture.clone());
+            let nominal = emissions.get(emission as usize).map_or(0.0, |e| e.spectrum.luminance());
             for (ti, idx) in m.indices.iter().enumerate() {
                 let mut v = [Vec3::ZERO; 3];
                 for k in 0..3 {
@@ -214,7 +227,9 @@ impl Scene {
                     }
                 }
                 let mut uidx = NONE;
-                if textured && let Some(t) = &m.uvs {
+                if (textured || emission_texture.is_some())
+                    && let Some(t) = &m.uvs
+                {
                     uidx = uvs.len() as u32;
                     uvs.extend(idx.iter().map(|&i| t[i as usize]));
                 }
@@ -232,7 +247,14 @@ impl Scene {
                 let mut light = NONE;
                 if emission != NONE {
                     light = lights.len() as u32;
-                    lights.push(Light::area_triangle(TriangleGeom::new(v[0], v[1], v[2]), emission));
+                    let tri = TriangleGeom::new(v[0], v[1], v[2]);
+                    lights.push(match (&emission_texture, &m.uvs) {
+                        (Some(t), Some(uv)) => {
+                            let uv = idx.map(|i| uv[i as usize]);
+                            Light::area_triangle_textured(tri, emission, uv, textured_weight(t, &uv, nominal))
+                        }
+                        _ => Light::area_triangle(tri, emission),
+                    });
                 }
                 tris.push(v);
                 infos.push(TriangleInfo {
@@ -326,7 +348,7 @@ impl Scene {
             normals,
             uvs,
             colors,
-            textures: desc.textures.iter().map(ImageTexture::new).collect(),
+            textures: images,
             material_textures: desc.materials.iter().map(|m| TexturedMaterial::new(&m.textures)).collect(),
             center,
             radius,

@@ -4,6 +4,8 @@
 //! the importers' plain [`TextureDesc`] / [`MaterialTextures`] by
 //! [`Scene::compile`](crate::core::scene::Scene::compile).
 
+use std::borrow::Borrow;
+
 use glam::{Vec2, Vec3};
 use quasar_importers::{MaterialTextures, TextureDesc, TextureRef, TextureWrap};
 use quasar_materials::PbrParams;
@@ -58,6 +60,11 @@ impl ImageTexture {
         [c(t[0]), c(t[1]), c(t[2]), f32::from(t[3]) / 255.0]
     }
 
+    /// (width, height) in texels.
+    pub fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
     /// The filtered value at texture coordinates `uv` (glTF convention: (0, 0) = top-left),
     /// RGBA in [0, 1]; with `srgb` the colour channels are decoded to linear before filtering.
     /// Non-finite coordinates give 0.
@@ -85,7 +92,7 @@ impl ImageTexture {
 /// The texture's coordinates of mesh coordinates `uv`: the reference's affine map
 /// `uv' = T * R * S * uv` (KHR_texture_transform, row-major 2x3).
 #[inline]
-fn mapped(r: &TextureRef, uv: Vec2) -> Vec2 {
+pub fn mapped(r: &TextureRef, uv: Vec2) -> Vec2 {
     let m = &r.transform;
     Vec2::new(m[0][0] * uv.x + m[0][1] * uv.y + m[0][2], m[1][0] * uv.x + m[1][1] * uv.y + m[1][2])
 }
@@ -121,10 +128,10 @@ impl TexturedMaterial {
 
     /// The glTF parameters at mesh texture coordinates `uv`: factors times texels (a reference
     /// to a missing texture leaves its factor alone).
-    pub fn params_at(&self, textures: &[ImageTexture], uv: Vec2) -> PbrParams {
+    pub fn params_at<T: Borrow<ImageTexture>>(&self, textures: &[T], uv: Vec2) -> PbrParams {
         let mut p = self.factors;
         if let Some(r) = &self.base_color
-            && let Some(t) = textures.get(r.texture)
+            && let Some(t) = textures.get(r.texture).map(Borrow::borrow)
         {
             let c = t.sample(mapped(r, uv), true);
             for (b, c) in p.base_color.iter_mut().zip(c) {
@@ -132,19 +139,19 @@ impl TexturedMaterial {
             }
         }
         if let Some(r) = &self.metallic_roughness
-            && let Some(t) = textures.get(r.texture)
+            && let Some(t) = textures.get(r.texture).map(Borrow::borrow)
         {
             let c = t.sample(mapped(r, uv), false);
             p.roughness *= c[1];
             p.metallic *= c[2];
         }
         if let Some(r) = &self.clearcoat
-            && let Some(t) = textures.get(r.texture)
+            && let Some(t) = textures.get(r.texture).map(Borrow::borrow)
         {
             p.clearcoat *= t.sample(mapped(r, uv), false)[0];
         }
         if let Some(r) = &self.clearcoat_roughness
-            && let Some(t) = textures.get(r.texture)
+            && let Some(t) = textures.get(r.texture).map(Borrow::borrow)
         {
             p.clearcoat_roughness *= t.sample(mapped(r, uv), false)[1];
         }
@@ -153,9 +160,9 @@ impl TexturedMaterial {
 
     /// The tangent-space normal at mesh texture coordinates `uv`, (2 c - 1) with X and Y scaled
     /// by `normalTexture.scale` (not normalised; None without a normal map).
-    pub fn normal_at(&self, textures: &[ImageTexture], uv: Vec2) -> Option<Vec3> {
+    pub fn normal_at<T: Borrow<ImageTexture>>(&self, textures: &[T], uv: Vec2) -> Option<Vec3> {
         let r = self.normal.as_ref()?;
-        let c = textures.get(r.texture)?.sample(mapped(r, uv), false);
+        let c = textures.get(r.texture)?.borrow().sample(mapped(r, uv), false);
         let s = self.normal_scale;
         Some(Vec3::new((2.0 * c[0] - 1.0) * s, (2.0 * c[1] - 1.0) * s, 2.0 * c[2] - 1.0))
     }

@@ -189,7 +189,7 @@ pub fn emitted_at_hit(
     }
     let light = &scene.lights[si.light as usize];
     let Light::Area { emission, .. } = light else { return SampledSpectrum::zero() };
-    let le = scene.emissions[*emission as usize].radiance(si.ng, wo, wl);
+    let le = scene.emissions[*emission as usize].radiance(si.ng, wo, si.uv, wl);
     if le.is_black() {
         return le;
     }

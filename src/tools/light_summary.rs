@@ -129,7 +129,12 @@ mod tests {
             uvs: None,
             colors: None,
             material: 0,
-            emission: Some(quasar_importers::EmissionDesc { spectrum: white, scale: per(1000.0), two_sided: false }),
+            emission: Some(quasar_importers::EmissionDesc {
+                spectrum: white,
+                scale: per(1000.0),
+                two_sided: false,
+                texture: None,
+            }),
             source: Default::default(),
         });
         let lines = light_lines(&desc);

@@ -9,7 +9,7 @@ use super::texture::TextureLoader;
 use crate::error::ImportError;
 use crate::names::unique_name;
 use crate::photometric::photometric_scale;
-use crate::scene_desc::{EmissionDesc, MaterialDesc, SourceLocation};
+use crate::scene_desc::{EmissionDesc, EmissiveTexture, MaterialDesc, SourceLocation};
 use crate::texture_desc::MaterialTextures;
 use quasar_materials::{Absorption, PbrParams, pbr_material};
 
@@ -180,9 +180,12 @@ pub(super) fn convert(
     }
     let strength = finite(m.emissive_strength().unwrap_or(1.0), 1.0).max(0.0);
     let mut e = m.emissive_factor().map(|c| finite(c, 0.0).max(0.0) * strength);
+    let mut texture = None;
     if let Some(info) = m.emissive_texture() {
-        // the area light has one colour: the factor times the texture's mean (documented)
+        // the emission follows the texture at every point; its mean colour is the light's
+        // nominal colour (for its power and for what needs one colour)
         let r = loader.reference(&info, &format!("{ptr}/emissiveTexture"))?;
+        texture = Some(EmissiveTexture { texture: r, factor: e });
         let mean = loader.textures[r.texture].mean(true);
         for (e, m) in e.iter_mut().zip(mean) {
             *e *= m;
@@ -190,7 +193,7 @@ pub(super) fn convert(
     }
     let emission = if e.iter().any(|&c| c > 0.0) && e.iter().all(|c| c.is_finite()) {
         let spectrum = Spectrum::rgb_illuminant(e).unwrap_or(Spectrum::Constant(0.0));
-        Some(EmissionDesc { spectrum, scale: photometric_scale(1.0), two_sided: m.double_sided() })
+        Some(EmissionDesc { spectrum, scale: photometric_scale(1.0), two_sided: m.double_sided(), texture })
     } else {
         None
     };

@@ -106,6 +106,14 @@ impl<'a> Builder<'a> {
                 );
             };
             mesh.material = material.unwrap_or(remap[mesh.material]);
+            if let Some(e) = &mut mesh.emission {
+                match (&mut e.texture, material) {
+                    (Some(t), None) => t.texture.texture += tex_base,
+                    // the file's textures were not added: its mean colour remains
+                    (Some(_), Some(_)) => e.texture = None,
+                    (None, _) => {}
+                }
+            }
             transform_mesh(&mut mesh, &m);
             meshes.push((mesh, orig));
         }

@@ -61,7 +61,7 @@ pub(crate) fn emission(t: &Tbl<'_>) -> Result<EmissionDesc, ImportError> {
     t.check_keys(&["spectrum", "scale", "two_sided"])?;
     let s = spectrum(t.doc, t.req("spectrum")?, &t.key_path("spectrum"), SpectrumUse::Emission)?;
     let scale = t.opt_f32_where("scale", "finite and >= 0", |s| s >= 0.0)?.unwrap_or(1.0);
-    Ok(EmissionDesc { spectrum: s, scale, two_sided: t.opt_bool("two_sided")?.unwrap_or(false) })
+    Ok(EmissionDesc { spectrum: s, scale, two_sided: t.opt_bool("two_sided")?.unwrap_or(false), texture: None })
 }
 
 /// Checks a size-like value: finite and > 0 (after unit conversion).

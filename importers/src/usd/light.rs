@@ -36,8 +36,9 @@ use crate::transform::transform_mesh;
 pub(super) enum UsdLight {
     /// A light without a surface.
     Light(LightDesc),
-    /// An emissive mesh (world space; the caller gives it the black light material).
-    Mesh(MeshDesc),
+    /// An emissive mesh (world space; the caller gives it the black light material), boxed: a
+    /// mesh description is several times larger than the other variants.
+    Mesh(Box<MeshDesc>),
     /// Not rendered, with the reason.
     Skipped(String),
 }
@@ -113,7 +114,7 @@ pub(super) fn mesh_light(prim: &Prim, m: &MeshDesc) -> Result<Option<EmissionDes
     if input_bool(prim, "normalize")?.unwrap_or(false) && m.area() > 0.0 {
         scale /= m.area();
     }
-    Ok(Some(EmissionDesc { spectrum, scale: scale as f32, two_sided: false }))
+    Ok(Some(EmissionDesc { spectrum, scale: scale as f32, two_sided: false, texture: None }))
 }
 
 /// The shape `t` in the light's local space, emitting `scale x spectrum` from its front.
@@ -126,7 +127,7 @@ fn local_mesh(name: &str, t: Tessellation, spectrum: Spectrum, scale: f32) -> Me
         colors: None,
         indices: t.indices,
         material: 0,
-        emission: Some(EmissionDesc { spectrum, scale, two_sided: false }),
+        emission: Some(EmissionDesc { spectrum, scale, two_sided: false, texture: None }),
         source: Default::default(),
     }
 }
@@ -215,7 +216,7 @@ pub(super) fn read_light(
                 e.scale = (f64::from(e.scale) / a) as f32;
             }
         }
-        UsdLight::Mesh(m)
+        UsdLight::Mesh(Box::new(m))
     };
     let light = match ty {
         "RectLight" => {

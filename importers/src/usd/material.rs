@@ -282,6 +282,7 @@ pub(super) fn convert(
             spectrum: Spectrum::rgb_illuminant(emissive).unwrap_or(Spectrum::Constant(0.0)),
             scale: photometric_scale(1.0),
             two_sided: false,
+            texture: None,
         });
     Ok(Converted { material, textures: maps, emission, notes: warnings })
 }

@@ -341,7 +341,7 @@ fn import_stage(path: &Path, opts: &ImportOptions) -> Result<SceneDesc, ImportEr
                         m.material = mi;
                         m.source = SourceLocation { file: path.to_owned(), line: None, item: Some(at.clone()) };
                         add_triangles(&mut triangles, m.indices.len(), path, &at)?;
-                        meshes.push(m);
+                        meshes.push(*m);
                     }
                     UsdLight::Skipped(why) => {
                         tally.skip("a light quasar cannot draw");

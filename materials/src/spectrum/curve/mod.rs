@@ -8,6 +8,10 @@ use super::cie;
 use super::rgb_uplift::{RgbToSpectrumTable, SigmoidPolynomial, fit_or_nearest};
 use super::sampled::{LAMBDA_MAX, LAMBDA_MIN, SampledSpectrum, SampledWavelengths};
 
+/// 1 / the luminance of the D65 spectrum: the factor that gives an RGB light colour (1, 1, 1)
+/// luminance 1.
+static D65_INVERSE_LUMINANCE: std::sync::LazyLock<f32> = std::sync::LazyLock::new(|| 1.0 / luminance_of(cie::d65));
+
 /// A CIE standard illuminant available by name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum StandardIlluminant {
@@ -263,10 +267,19 @@ impl Spectrum {
         if rgb.iter().any(|c| !c.is_finite() || *c < 0.0) {
             return Err(SpectrumError::Parameter(format!("light rgb components must be finite and >= 0, got {rgb:?}")));
         }
-        let y = luminance_of(cie::d65);
         let m = rgb[0].max(rgb[1]).max(rgb[2]);
         let model = fit_or_nearest(if m > 0.0 { rgb.map(|v| v / m) } else { [0.0; 3] });
-        Ok(Self::RgbIlluminant { rgb, model, norm: 1.0 / y })
+        Ok(Self::RgbIlluminant { rgb, model, norm: *D65_INVERSE_LUMINANCE })
+    }
+
+    /// A light colour that changes per shading point (an emissive texel): [`Self::rgb_illuminant`]
+    /// with the uplift of the normalised colour interpolated in [`RgbToSpectrumTable`]
+    /// (non-finite or negative components are 0).
+    pub fn rgb_illuminant_interpolated(rgb: [f32; 3]) -> Self {
+        let rgb = rgb.map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 });
+        let m = rgb[0].max(rgb[1]).max(rgb[2]);
+        let model = RgbToSpectrumTable::get().lookup(if m > 0.0 { rgb.map(|v| v / m) } else { [0.0; 3] });
+        Self::RgbIlluminant { rgb, model, norm: *D65_INVERSE_LUMINANCE }
     }
 
     /// Value at `lambda` nm.
