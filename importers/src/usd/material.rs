@@ -14,8 +14,8 @@
 //!
 //! Textured inputs ([`super::texture`]): `diffuseColor` (base colour texture, `scale` as the
 //! factor), `roughness` and `metallic` (packed as glTF's metallic-roughness texture), `normal`
-//! (tangent-space normal map), `emissiveColor` (the light's colour is the factor times the
-//! image's mean, as for glTF). Other textured inputs (`opacity`, `ior`, `clearcoat`, ...),
+//! (tangent-space normal map), `emissiveColor` (the emission follows the image per point, its
+//! mean the light's nominal colour, as for glTF). Other textured inputs (`opacity`, `ior`, `clearcoat`, ...),
 //! `specularColor` (the specular workflow) and `opacityThreshold` are not read: the default is
 //! used and a warning names the material. Materials that are not UsdPreviewSurface (MDL,
 //! MaterialX) get the fallback grey diffuse with a warning.
@@ -236,9 +236,11 @@ pub(super) fn convert(
             ));
         }
     }
+    let mut emissive_texture = None;
     if let Some(t) = &tex_emissive {
         let r = textures.image(t, file)?;
         let mean = textures.descs[r.texture].mean(true);
+        emissive_texture = Some(crate::scene_desc::EmissiveTexture { texture: r, factor: [t.scale[0], t.scale[1], t.scale[2]] });
         emissive = [0, 1, 2].map(|k| t.scale[k] * mean[k]);
     }
     textured.retain(|n| {
@@ -282,7 +284,7 @@ pub(super) fn convert(
             spectrum: Spectrum::rgb_illuminant(emissive).unwrap_or(Spectrum::Constant(0.0)),
             scale: photometric_scale(1.0),
             two_sided: false,
-            texture: None,
+            texture: emissive_texture,
         });
     Ok(Converted { material, textures: maps, emission, notes: warnings })
 }
