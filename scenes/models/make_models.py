@@ -110,3 +110,96 @@ doc = {
     "scene": 0,
 }
 open('scenes/models/box-vertex-colors.gltf', 'w').write(json.dumps(doc, indent=1) + '\n')
+
+# 4. a coated-paint and tail-light model in the manner of Khronos' ClearCoatTest,
+# ClearCoatCarPaint and ToyCar: spheres of clear-coated paint (smooth and satin coats), a
+# clear-coated metal and an uncoated reference, in a grey box open at the front, lit only by an
+# emissive panel
+# whose emissive texture is mostly black (two lit "lamp" stripes), with
+# KHR_materials_clearcoat in extensionsRequired (ClearCoatCarPaint's declaration). No camera.
+import math, zlib
+
+def png_rgba(w, h, pixel):
+    raw = b''.join(b'\x00' + b''.join(bytes(pixel(x, y)) for x in range(w)) for y in range(h))
+    def chunk(t, d):
+        return struct.pack('>I', len(d)) + t + d + struct.pack('>I', zlib.crc32(t + d) & 0xffffffff)
+    return (b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', struct.pack('>IIBBBBB', w, h, 8, 6, 0, 0, 0))
+            + chunk(b'IDAT', zlib.compress(raw, 9)) + chunk(b'IEND', b''))
+
+def sphere(cx, cy, cz, r, nu=24, nv=12):
+    p, n, ix = [], [], []
+    for j in range(nv + 1):
+        th = math.pi * j / nv
+        for i in range(nu + 1):
+            ph = 2 * math.pi * i / nu
+            d = (math.sin(th) * math.cos(ph), math.cos(th), math.sin(th) * math.sin(ph))
+            p.append((cx + r * d[0], cy + r * d[1], cz + r * d[2])); n.append(d)
+    for j in range(nv):
+        for i in range(nu):
+            a, b = j * (nu + 1) + i, (j + 1) * (nu + 1) + i
+            ix += [a, a + 1, b, a + 1, b + 1, b]
+    return p, n, ix, None
+
+def quad(corners, normal, uvs=None):
+    return list(corners), [normal] * 4, [0, 1, 2, 0, 2, 3], uvs
+
+meshes = [
+    ('ground', quad([(-3, 0, 2), (3, 0, 2), (3, 0, -2), (-3, 0, -2)], (0, 1, 0)), 0),
+    ('backdrop', quad([(-3, 0, -2), (3, 0, -2), (3, 4, -2), (-3, 4, -2)], (0, 0, 1)), 0),
+    ('left', quad([(-3, 0, 2), (-3, 0, -2), (-3, 4, -2), (-3, 4, 2)], (1, 0, 0)), 0),
+    ('right', quad([(3, 0, -2), (3, 0, 2), (3, 4, 2), (3, 4, -2)], (-1, 0, 0)), 0),
+    ('paint_smooth', sphere(-1.8, 0.5, 0, 0.5), 1),
+    ('paint_satin', sphere(-0.6, 0.5, 0, 0.5), 2),
+    ('metal_coated', sphere(0.6, 0.5, 0, 0.5), 3),
+    ('paint_bare', sphere(1.8, 0.5, 0, 0.5), 4),
+    # the lamp panel overhead, facing down
+    ('lamp', quad([(-2.5, 3.9, -1.0), (2.5, 3.9, -1.0), (2.5, 3.9, 1.0), (-2.5, 3.9, 1.0)], (0, -1, 0),
+                  [(0, 0), (1, 0), (1, 1), (0, 1)]), 5),
+]
+blob, views, accessors, prims = b'', [], [], []
+def add(data, target, comp, typ, count, mn=None, mx=None):
+    global blob
+    while len(blob) % 4: blob += b'\x00'
+    views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": len(data), "target": target})
+    blob += data
+    a = {"bufferView": len(views) - 1, "componentType": comp, "count": count, "type": typ}
+    if mn is not None: a["min"], a["max"] = mn, mx
+    accessors.append(a)
+    return len(accessors) - 1
+for name, (p, n, ix, uv), mat in meshes:
+    attrs = {"POSITION": add(b''.join(struct.pack('<3f', *v) for v in p), 34962, 5126, "VEC3", len(p),
+                             [min(v[k] for v in p) for k in range(3)], [max(v[k] for v in p) for k in range(3)]),
+             "NORMAL": add(b''.join(struct.pack('<3f', *v) for v in n), 34962, 5126, "VEC3", len(n))}
+    if uv: attrs["TEXCOORD_0"] = add(b''.join(struct.pack('<2f', *v) for v in uv), 34962, 5126, "VEC2", len(uv))
+    prims.append({"name": name, "primitives": [{"attributes": attrs, "material": mat,
+                  "indices": add(b''.join(struct.pack('<I', i) for i in ix), 34963, 5125, "SCALAR", len(ix))}]})
+# 64 x 16 texels: black but for two warm "lamp" stripes
+lamp = png_rgba(64, 16, lambda x, y: (255, 200, 150, 255) if 4 <= y < 12 and (6 <= x < 22 or 42 <= x < 58) else (0, 0, 0, 255))
+red = [0.6, 0.04, 0.03, 1]
+doc = {
+    "asset": {"version": "2.0", "generator": "scenes/models/make_models.py (quasar)"},
+    "extensionsUsed": ["KHR_materials_clearcoat", "KHR_materials_emissive_strength"],
+    "extensionsRequired": ["KHR_materials_clearcoat"],
+    "scene": 0, "scenes": [{"nodes": list(range(len(meshes)))}],
+    "nodes": [{"mesh": i, "name": m[0]} for i, m in enumerate(meshes)],
+    "meshes": prims,
+    "materials": [
+        {"name": "ground", "pbrMetallicRoughness": {"baseColorFactor": [0.35, 0.35, 0.35, 1], "metallicFactor": 0}},
+        {"name": "paint_smooth", "pbrMetallicRoughness": {"baseColorFactor": red, "metallicFactor": 0},
+         "extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1, "clearcoatRoughnessFactor": 0}}},
+        {"name": "paint_satin", "pbrMetallicRoughness": {"baseColorFactor": red, "metallicFactor": 0},
+         "extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1, "clearcoatRoughnessFactor": 0.4}}},
+        {"name": "metal_coated", "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.75, 0.4, 1], "metallicFactor": 1, "roughnessFactor": 0.35},
+         "extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1, "clearcoatRoughnessFactor": 0.05}}},
+        {"name": "paint_bare", "pbrMetallicRoughness": {"baseColorFactor": red, "metallicFactor": 0}},
+        {"name": "lamp", "pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1], "metallicFactor": 0},
+         "emissiveFactor": [1, 1, 1], "emissiveTexture": {"index": 0},
+         "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 60}}},
+    ],
+    "textures": [{"source": 0, "sampler": 0}],
+    "samplers": [{"magFilter": 9728, "minFilter": 9728}],
+    "images": [{"mimeType": "image/png", "uri": "data:image/png;base64," + base64.b64encode(lamp).decode()}],
+    "accessors": accessors, "bufferViews": views,
+    "buffers": [{"byteLength": len(blob), "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}],
+}
+open('scenes/models/coated-paint-and-lamp.gltf', 'w').write(json.dumps(doc, indent=1) + '\n')

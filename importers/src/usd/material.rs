@@ -240,7 +240,8 @@ pub(super) fn convert(
     if let Some(t) = &tex_emissive {
         let r = textures.image(t, file)?;
         let mean = textures.descs[r.texture].mean(true);
-        emissive_texture = Some(crate::scene_desc::EmissiveTexture { texture: r, factor: [t.scale[0], t.scale[1], t.scale[2]] });
+        emissive_texture =
+            Some(crate::scene_desc::EmissiveTexture { texture: r, factor: [t.scale[0], t.scale[1], t.scale[2]] });
         emissive = [0, 1, 2].map(|k| t.scale[k] * mean[k]);
     }
     textured.retain(|n| {
