@@ -6,6 +6,7 @@
 
 pub mod absorption;
 pub mod bsdf;
+pub mod catalogue;
 pub mod coating;
 pub mod frame;
 pub mod material;

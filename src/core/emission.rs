@@ -47,6 +47,20 @@ impl EmissionTexture {
 }
 
 impl Emission {
+    /// The emission of an imported mesh's `desc`, its texture's image taken from the scene's
+    /// `images`; a texture needs the mesh's texture coordinates (`has_uvs`), else the mean colour
+    /// (`desc.spectrum`) is emitted everywhere.
+    pub fn new(desc: &quasar_importers::EmissionDesc, images: &[Arc<ImageTexture>], has_uvs: bool) -> Self {
+        let texture = desc.texture.filter(|_| has_uvs).and_then(|t| {
+            Some(EmissionTexture {
+                image: images.get(t.texture.texture)?.clone(),
+                reference: t.texture,
+                factor: t.factor,
+            })
+        });
+        Self { spectrum: desc.spectrum.densified(), scale: desc.scale, two_sided: desc.two_sided, texture }
+    }
+
     /// Radiance leaving a surface with unit geometric normal `ng` in direction `w`, at mesh
     /// texture coordinates `uv` (used with a texture).
     #[inline(always)]

@@ -11,7 +11,7 @@ use quasar_materials::spectrum::SampledWavelengths;
 use quasar_materials::{Bsdf, Frame, Material, NonUniformity};
 use rayon::prelude::*;
 
-use crate::core::emission::{Emission, EmissionTexture, textured_weight};
+use crate::core::emission::{Emission, textured_weight};
 use crate::core::geometry::{Accel, Hit, NONE, Ray, TriangleGeom, TriangleInfo};
 use crate::core::light::{Light, LightSampler};
 use crate::core::texture::{ImageTexture, TexturedMaterial};
@@ -174,20 +174,7 @@ impl Scene {
             let textured = !desc.materials[m.material].textures.is_empty();
             let emission = match &m.emission {
                 Some(e) if e.scale > 0.0 && e.scale.is_finite() => {
-                    // a textured emission needs the mesh's texture coordinates and its image
-                    let texture = e.texture.filter(|_| m.uvs.is_some()).and_then(|t| {
-                        Some(EmissionTexture {
-                            image: images.get(t.texture.texture)?.clone(),
-                            reference: t.texture,
-                            factor: t.factor,
-                        })
-                    });
-                    emissions.push(Emission {
-                        spectrum: e.spectrum.densified(),
-                        scale: e.scale,
-                        two_sided: e.two_sided,
-                        texture,
-                    });
+                    emissions.push(Emission::new(e, &images, m.uvs.is_some()));
                     (emissions.len() - 1) as u32
                 }
                 _ => NONE,

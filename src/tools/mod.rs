@@ -11,6 +11,7 @@ pub mod info;
 pub mod light_summary;
 pub mod material_library;
 pub mod merge;
+pub mod mitsuba_coat;
 pub mod mitsuba_export;
 pub mod plot;
 pub mod report_format;

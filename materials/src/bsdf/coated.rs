@@ -13,7 +13,7 @@
 //! - M: the light that the coat's underside reflects back onto the base. For a Lambertian base of
 //!   albedo rho, M = 1 / (1 - rho K) sums the bounces exactly (the light under the coat is
 //!   diffuse), with K = F_int (the coat's hemispherical internal reflectance) times the fraction
-//!   of it that survives the absorption down and up ([`crate::CoatAbsorption`]; exact for a
+//!   of it that survives the absorption down and up (the coating's `CoatAbsorption`; exact for a
 //!   smooth coat). For a conductor base of normal reflectance R, the light stays near the angle
 //!   it came in at, and M = 1 / (1 - R e^(-2 tau) sqrt(E(cos o) E(cos i))) sums the bounces of a
 //!   mirror base exactly (a smooth coat reflects from inside what it reflects from outside). For
@@ -28,10 +28,10 @@
 
 use glam::{Vec2, Vec3};
 
+use super::coat_albedo::{CoatRow, RoughnessPos};
 use super::fresnel::fr_dielectric;
 use super::microfacet::TrowbridgeReitz;
 use super::{BsdfSample, ConductorBsdf, DiffuseBsdf, Lobe, TabulatedBsdf, TransportMode, reflect};
-use crate::coating::{CoatRow, RoughnessPos};
 use crate::spectrum::SampledSpectrum;
 use std::f32::consts::PI;
 
@@ -105,10 +105,10 @@ fn outside(w: Vec3, eta: f32) -> Option<Vec3> {
 
 impl<'a> CoatedBsdf<'a> {
     /// A coat of GGX distribution `coat` (never effectively smooth: see
-    /// [`crate::coating::coat_alpha`]), relative IOR `eta` >= 1 with its albedo table row,
+    /// [`crate::bsdf::coat_albedo::coat_alpha`]), relative IOR `eta` >= 1 with its albedo table row,
     /// optical depth `depth` and, for the Lambertian interreflection, the fraction
     /// `interreflection` of the internal reflectance that the absorption leaves
-    /// ([`crate::CoatAbsorption::interreflection`]), over `base`.
+    /// (the coating's `CoatAbsorption::interreflection`), over `base`.
     pub fn new(
         coat: TrowbridgeReitz,
         eta: f32,
@@ -293,13 +293,13 @@ fn flip(v: Vec3, flipped: bool) -> Vec3 {
 mod tests {
     use super::*;
     use crate::bsdf::SampledFresnel;
+    use crate::bsdf::coat_albedo::{CoatAlbedo, coat_alpha};
     use crate::bsdf::test_util::{SplitMix, random_dir};
-    use crate::coating::{CoatAlbedo, coat_alpha};
 
     fn coated(alpha: f32, base: CoatBase<'static>, depth: f32) -> CoatedBsdf<'static> {
         let row = CoatAlbedo::for_eta(1.5).row(alpha);
-        let t = crate::coating::CoatAbsorption::new(&crate::spectrum::Spectrum::Constant(depth), 1.0, 1.5);
-        let tr = t.interreflection.value(550.0);
+        // the interreflection factor only scales M over a Lambertian base: any value in (0, 1]
+        let tr = (-depth).exp();
         CoatedBsdf::new(
             TrowbridgeReitz::new(coat_alpha(alpha)),
             1.5,

@@ -6,6 +6,7 @@ use glam::Vec3;
 
 use crate::spectrum::SampledSpectrum;
 
+pub mod coat_albedo;
 pub mod coated;
 pub mod conductor;
 pub mod dielectric;
@@ -274,8 +275,8 @@ mod tests {
         }
         for eta in [1.0f32, 1.5, 4.0] {
             for alpha in [0.0f32, 0.01, 1.0] {
-                let row = crate::coating::CoatAlbedo::for_eta(eta).row(alpha);
-                let coat = TrowbridgeReitz::new(crate::coating::coat_alpha(alpha));
+                let row = crate::bsdf::coat_albedo::CoatAlbedo::for_eta(eta).row(alpha);
+                let coat = TrowbridgeReitz::new(crate::bsdf::coat_albedo::coat_alpha(alpha));
                 for (base, depth) in [
                     (CoatBase::Diffuse(DiffuseBsdf::new(SampledSpectrum::one(), true)), 0.0f32),
                     (CoatBase::Conductor(ConductorBsdf::new(TrowbridgeReitz::new(1e-3), gold, true)), 50.0),
