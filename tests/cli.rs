@@ -261,7 +261,7 @@ fn gltf_with_buffer(uri: &str) -> (String, Vec<u8>) {
     use quasar_importers::gltf::writer::{BinStorage, GltfWriter, Prim};
     let mut w = GltfWriter::new();
     w.use_extension("KHR_lights_punctual", false);
-    w.use_extension("KHR_materials_sheen", false);
+    w.use_extension("KHR_materials_iridescence", false);
     let position = w.positions(&[[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [0.0, 1.0, 0.0]]);
     let m = w.mesh("tri", &[Prim { position, ..Default::default() }]);
     GltfWriter::push(&mut w.lights, r#"{"type":"point","intensity":1000}"#);
@@ -290,7 +290,7 @@ fn gltf_paths_outside_the_folder_need_the_flag_and_warnings_are_printed() {
     let o = quasar().args(args).arg("--allow-external-paths").arg(&scene).arg("-o").arg(&out).output().unwrap();
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{stderr}");
-    assert!(stderr.contains("warning: ") && stderr.contains("KHR_materials_sheen"), "{stderr}");
+    assert!(stderr.contains("warning: ") && stderr.contains("KHR_materials_iridescence"), "{stderr}");
     assert!(quasar::output::read_exr(&out).unwrap().channel(quasar::film::LUMINANCE).unwrap().iter().any(|&y| y > 0.0));
     // --units scales the scene: info reports the bounding sphere in metres
     let info = |units: &str| {

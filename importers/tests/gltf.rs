@@ -514,11 +514,11 @@ fn malformed_files_give_clear_errors() {
     assert_eq!(k, ImportErrorKind::Unsupported);
     assert!(e.contains("/extensionsRequired/0") && e.contains("KHR_draco_mesh_compression"), "{e}");
     let mut w = simple();
-    w.use_extension("KHR_materials_sheen", false);
+    w.use_extension("KHR_materials_iridescence", false);
     w.use_extension("EXT_meshopt_compression", false);
     let s = import(&d.gltf("used", &w));
     assert_eq!(s.warnings.len(), 1);
-    assert!(s.warnings[0].contains("KHR_materials_sheen, EXT_meshopt_compression"), "{:?}", s.warnings);
+    assert!(s.warnings[0].contains("KHR_materials_iridescence, EXT_meshopt_compression"), "{:?}", s.warnings);
 
     // invalid references found by validation name a JSON pointer
     let mut w = simple();
@@ -780,4 +780,50 @@ fn clearcoat_makes_coated_materials() {
     );
     let (_, e) = import_err(&d.gltf("tex", &scene(r#"{"clearcoatFactor":1,"clearcoatTexture":{"index":7}}"#, false)));
     assert!(e.contains("/materials/0/extensions/KHR_materials_clearcoat/clearcoatTexture/index"), "{e}");
+}
+
+/// KHR_materials_sheen (issue 50): a non-black sheen colour puts the base under a sheen of
+/// Charlie alpha sheenRoughnessFactor^2; its textures are warnings; bad factors are errors at
+/// their JSON pointer; under a clear coat the sheen is dropped with a warning.
+#[test]
+fn sheen_makes_sheen_materials() {
+    let scene = |ext: &str| {
+        let mut w = GltfWriter::new();
+        w.use_extension("KHR_materials_sheen", false);
+        w.use_extension("KHR_materials_clearcoat", false);
+        let m = GltfWriter::push(
+            &mut w.materials,
+            &format!(
+                r#"{{"name":"velvet","pbrMetallicRoughness":{{"baseColorFactor":[0.2,0.05,0.3,1],"metallicFactor":0}},"extensions":{{{ext}}}}}"#
+            ),
+        );
+        let p = triangle(&mut w, Some(m));
+        let mesh = w.mesh("tri", &[p]);
+        let n = node(&mut w, &format!("{{\"mesh\":{mesh}}}"));
+        w.roots.push(n);
+        w
+    };
+    let d = Dir::new();
+    let s = import(&d.gltf(
+        "sheen",
+        &scene(r#""KHR_materials_sheen":{"sheenColorFactor":[1,0.8,0.9],"sheenRoughnessFactor":0.5,"sheenColorTexture":{"index":0}}"#),
+    ));
+    match &s.materials[0].material {
+        Material::Sheen { alpha, base, .. } => {
+            assert!((alpha - 0.25).abs() < 1e-6);
+            assert!(matches!(base.as_ref(), Material::Diffuse { .. }));
+        }
+        m => panic!("{m:?}"),
+    }
+    assert!(s.warnings.iter().any(|w| w.contains("sheenColorTexture")), "{:?}", s.warnings);
+    let black = import(&d.gltf("black", &scene(r#""KHR_materials_sheen":{"sheenRoughnessFactor":0.5}"#)));
+    assert!(matches!(black.materials[0].material, Material::Diffuse { .. }));
+    let (_, e) = import_err(&d.gltf("bad", &scene(r#""KHR_materials_sheen":{"sheenColorFactor":[1,2,0]}"#)));
+    assert!(e.contains("/materials/0/extensions/KHR_materials_sheen/sheenColorFactor"), "{e}");
+    let both = import(&d.gltf(
+        "both",
+        &scene(r#""KHR_materials_sheen":{"sheenColorFactor":[1,1,1]},"KHR_materials_clearcoat":{"clearcoatFactor":1}"#),
+    ));
+    assert!(matches!(both.materials[0].material, Material::Coated { .. }));
+    assert!(both.warnings.iter().any(|w| w.contains("sheen under a clear coat")), "{:?}", both.warnings);
 }

@@ -130,7 +130,7 @@ fn material_validation_is_reported_at_the_material() {
     let (t, e) = bad_extra("[materials.bad]\ntype = \"dielectric\"\nior = 1.5\nalpha = -0.1\n", &[]);
     assert_at(&e, "scene.toml", line_of(&t, "alpha = -0.1"), &[">= 0"]);
     let (t, e) = bad_extra("[materials.bad]\ntype = \"plastic\"\n", &[]);
-    assert_at(&e, "scene.toml", line_of(&t, "plastic"), &["diffuse, conductor, dielectric, coated"]);
+    assert_at(&e, "scene.toml", line_of(&t, "plastic"), &["diffuse, conductor, dielectric, coated, sheen"]);
     let (t, e) = bad_extra("[materials.bad]\nreflectance = 1\n", &[]);
     assert_at(&e, "scene.toml", line_of(&t, "[materials.bad]"), &["missing key `type`"]);
     let (t, e) = bad_extra("[materials.bad]\nfile = \"lightguide.toml\"\n", &[]);

@@ -89,6 +89,31 @@ pub enum Material {
         /// Coated on both sides (else black from behind).
         two_sided: bool,
     },
+    /// A sheen (velvet, cloth) over an opaque `base` (diffuse, conductor or opaque tabulated):
+    /// glTF `KHR_materials_sheen` ([`crate::bsdf::SheenBsdf`]).
+    Sheen {
+        /// Sheen colour, a spectrum in [0, 1].
+        color: Spectrum,
+        /// The Charlie distribution's alpha (glTF sheenRoughness^2).
+        alpha: f32,
+        /// What lies under it.
+        base: Box<Material>,
+    },
+}
+
+/// The layer base a material makes under a coat or a sheen: a diffuse, a conductor (at alpha >=
+/// 1e-3) or an opaque tabulated BSDF; None for anything else.
+fn coat_base<'a>(base: &'a Material, wl: &SampledWavelengths, masking: Masking) -> Option<CoatBase<'a>> {
+    Some(match base {
+        Material::Diffuse { reflectance, .. } => CoatBase::Diffuse(DiffuseBsdf::new(reflectance.sample(wl), true)),
+        Material::Conductor { alpha, fresnel, .. } => CoatBase::Conductor(ConductorBsdf::new(
+            TrowbridgeReitz::new(alpha.max(SMOOTH_ALPHA)).with_masking(masking),
+            sampled_fresnel(fresnel, wl),
+            true,
+        )),
+        Material::Tabulated(t) if !t.has_transmission() => CoatBase::Tabulated(TabulatedBsdf::new(t, wl)),
+        _ => return None,
+    })
 }
 
 /// A conductor's Fresnel model at the path's wavelengths.
@@ -179,19 +204,14 @@ impl Material {
                 })
             }
             Material::Tabulated(t) => Bsdf::Tabulated(TabulatedBsdf::new(t, wl)),
+            Material::Sheen { color, alpha, base } => match coat_base(base, wl, masking) {
+                Some(b) => {
+                    Bsdf::Sheen(crate::bsdf::SheenBsdf::new(color.sample(wl), color.max_value(), *alpha, b, true))
+                }
+                None => Bsdf::Black,
+            },
             Material::Coated { coating, base, two_sided } => {
-                let base = match base.as_ref() {
-                    Material::Diffuse { reflectance, .. } => {
-                        CoatBase::Diffuse(DiffuseBsdf::new(reflectance.sample(wl), true))
-                    }
-                    Material::Conductor { alpha, fresnel, .. } => CoatBase::Conductor(ConductorBsdf::new(
-                        TrowbridgeReitz::new(alpha.max(SMOOTH_ALPHA)).with_masking(masking),
-                        sampled_fresnel(fresnel, wl),
-                        true,
-                    )),
-                    Material::Tabulated(t) if !t.has_transmission() => CoatBase::Tabulated(TabulatedBsdf::new(t, wl)),
-                    _ => return Bsdf::Black,
-                };
+                let Some(base) = coat_base(base, wl, masking) else { return Bsdf::Black };
                 let (depth, interreflection) = match &coating.absorption {
                     Some(a) => (a.depth.sample(wl), a.interreflection.sample(wl)),
                     None => (SampledSpectrum::zero(), SampledSpectrum::one()),
@@ -232,6 +252,9 @@ impl Material {
                 transmittance: transmittance.as_ref().map(Spectrum::densified),
             },
             Material::Tabulated(_) => self.clone(),
+            Material::Sheen { color, alpha, base } => {
+                Material::Sheen { color: color.densified(), alpha: *alpha, base: Box::new(base.densified()) }
+            }
             Material::Coated { coating, base, two_sided } => Material::Coated {
                 coating: coating.clone().with_absorption(coating.absorption.as_ref().map(|a| CoatAbsorption {
                     depth: a.depth.densified(),
@@ -288,6 +311,14 @@ impl Material {
             }
             // Validated when the table was built (TabulatedTable::new).
             Material::Tabulated(_) => Ok(()),
+            Material::Sheen { color, alpha, base } => {
+                check_spectrum("sheen colour", color, 0.0, 1.0)?;
+                check_alpha("sheen", *alpha)?;
+                if coat_base(base, &SampledWavelengths::sample_uniform(0.5), Masking::HeightCorrelated).is_none() {
+                    return Err("a sheen's base must be a diffuse, conductor or opaque tabulated reflector".into());
+                }
+                base.validate().map_err(|e| format!("sheen base: {e}"))
+            }
             Material::Coated { coating, base, .. } => {
                 coating.validate()?;
                 match base.as_ref() {
@@ -296,7 +327,7 @@ impl Material {
                     Material::Tabulated(_) => {
                         return Err("a coat's base must be opaque: this tabulated BSDF transmits".into());
                     }
-                    Material::Dielectric { .. } | Material::Coated { .. } => {
+                    Material::Dielectric { .. } | Material::Coated { .. } | Material::Sheen { .. } => {
                         return Err("a coat's base must be a diffuse, conductor or tabulated reflector".into());
                     }
                 }
@@ -309,7 +340,9 @@ impl Material {
     /// dielectric with effectively smooth alpha (< 1e-3), or an index-matched (IOR 1) dielectric.
     pub fn is_specular(&self) -> bool {
         match self {
-            Material::Diffuse { .. } | Material::Tabulated(_) | Material::Coated { .. } => false,
+            Material::Diffuse { .. } | Material::Tabulated(_) | Material::Coated { .. } | Material::Sheen { .. } => {
+                false
+            }
             Material::Conductor { alpha, .. } => TrowbridgeReitz::new(*alpha).effectively_smooth(),
             Material::Dielectric { ior, alpha, .. } => {
                 TrowbridgeReitz::new(*alpha).effectively_smooth() || *ior == Ior::Constant(1.0)

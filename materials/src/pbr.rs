@@ -16,6 +16,9 @@
 //!   [`Material::Coated`] coat of IOR 1.5 (the extension's) and GGX alpha
 //!   `clearcoat_roughness^2`; a coat over glass is dropped (the importer warns). A factor below
 //!   0.5 leaves the surface uncoated: as for the lobes above, the dominant layer is rendered.
+//! - a non-black `sheen_color` (KHR_materials_sheen) puts the uncoated metal or diffuse lobe
+//!   under a [`Material::Sheen`] of that colour and Charlie alpha `sheen_roughness^2`; with a
+//!   clear coat the coat is rendered and the sheen dropped (the importer warns).
 //!
 //! In every case the GGX alpha is `roughness^2` (the glTF convention) and surfaces reflect on
 //! both sides.
@@ -44,6 +47,10 @@ pub struct PbrParams {
     pub clearcoat: f32,
     /// KHR_materials_clearcoat `clearcoatRoughnessFactor` in [0, 1] (GGX alpha = its square).
     pub clearcoat_roughness: f32,
+    /// KHR_materials_sheen `sheenColorFactor`, linear RGB in [0, 1] (black: no sheen).
+    pub sheen_color: [f32; 3],
+    /// KHR_materials_sheen `sheenRoughnessFactor` in [0, 1] (Charlie alpha = its square).
+    pub sheen_roughness: f32,
 }
 
 impl Default for PbrParams {
@@ -56,6 +63,8 @@ impl Default for PbrParams {
             ior: 1.5,
             clearcoat: 0.0,
             clearcoat_roughness: 0.0,
+            sheen_color: [0.0; 3],
+            sheen_roughness: 0.0,
         }
     }
 }
@@ -93,9 +102,13 @@ fn pbr_material_with(p: &PbrParams, uplift: impl Fn([f32; 3]) -> Spectrum) -> Ma
     } else {
         Material::Diffuse { reflectance: base, two_sided: true }
     };
+    let sheen = p.sheen_color.map(unit);
     if unit(p.clearcoat) >= PBR_LOBE_THRESHOLD {
         let r = unit(p.clearcoat_roughness);
         Material::Coated { coating: Coating::clear(r * r), base: Box::new(base), two_sided: true }
+    } else if sheen.iter().any(|&c| c > 0.0) {
+        let r = unit(p.sheen_roughness);
+        Material::Sheen { color: uplift(sheen), alpha: r * r, base: Box::new(base) }
     } else {
         base
     }

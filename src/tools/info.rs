@@ -145,6 +145,9 @@ pub fn describe_material(m: &Material) -> String {
                 sided(*two_sided)
             )
         }
+        Material::Sheen { color, alpha, base } => {
+            format!("sheen {} (alpha {}) over [{}]", describe_spectrum(color), num(*alpha), describe_material(base))
+        }
         Material::Tabulated(t) => {
             let spec = t.spec();
             format!(

@@ -123,6 +123,7 @@ fn bsdf(name: &str, material: &Material) -> Result<String, String> {
             )
         }
         Material::Tabulated(_) => return Err(format!("material '{name}': a tabulated BSDF")),
+        Material::Sheen { .. } => return Err(format!("material '{name}': a sheen (Mitsuba 3 has no sheen BSDF)")),
         // the coat as what it models: the base under a dielectric layer (see `coat_shape`)
         Material::Coated { coating, base, .. } => {
             if !matches!(base.as_ref(), Material::Diffuse { .. } | Material::Conductor { .. }) {

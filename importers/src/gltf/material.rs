@@ -70,6 +70,51 @@ fn clearcoat(
     Ok(())
 }
 
+/// Reads KHR_materials_sheen (the JSON object `sh` at `ptr`) into the factors:
+/// `sheenColorFactor` (three numbers in [0, 1], black by default) and `sheenRoughnessFactor` (a
+/// number in [0, 1], 0 by default); `sheenColorTexture` and `sheenRoughnessTexture` are not read
+/// (a warning: the factors are used).
+fn sheen(
+    sh: &serde_json::Value,
+    ptr: &str,
+    p: &mut PbrParams,
+    loader: &mut TextureLoader<'_>,
+) -> Result<(), ImportError> {
+    let bad = |key: &str, v: &serde_json::Value, what: &str| {
+        super::err(
+            crate::error::ImportErrorKind::InvalidValue,
+            loader.file,
+            &format!("{ptr}/{key}"),
+            format!("must be {what}, got {v}"),
+        )
+    };
+    if let Some(v) = sh.get("sheenColorFactor") {
+        let c: Option<Vec<f64>> = v.as_array().map(|a| a.iter().filter_map(serde_json::Value::as_f64).collect());
+        match c {
+            Some(c)
+                if c.len() == 3
+                    && v.as_array().is_some_and(|a| a.len() == 3)
+                    && c.iter().all(|x| (0.0..=1.0).contains(x)) =>
+            {
+                p.sheen_color = [c[0] as f32, c[1] as f32, c[2] as f32];
+            }
+            _ => return Err(bad("sheenColorFactor", v, "three numbers in [0, 1]")),
+        }
+    }
+    if let Some(v) = sh.get("sheenRoughnessFactor") {
+        match v.as_f64() {
+            Some(x) if (0.0..=1.0).contains(&x) => p.sheen_roughness = x as f32,
+            _ => return Err(bad("sheenRoughnessFactor", v, "a number in [0, 1]")),
+        }
+    }
+    for key in ["sheenColorTexture", "sheenRoughnessTexture"] {
+        if sh.get(key).is_some() {
+            loader.warnings.push(format!("{}: {ptr}/{key}: not supported; the factor is used", loader.file.display()));
+        }
+    }
+    Ok(())
+}
+
 /// Converts glTF material `m` (`None` = the glTF default material). `taken` tells which names
 /// are already used; `metres` is the length of one glTF unit in metres (`--units`).
 pub(super) fn convert(
@@ -168,6 +213,14 @@ pub(super) fn convert(
                 "{}: {ptr}: a clear coat over a transmissive material is not rendered (the glass is)",
                 file.display()
             ));
+        }
+    }
+    if let Some(sh) = m.extensions().and_then(|e| e.get("KHR_materials_sheen")) {
+        sheen(sh, &format!("{ptr}/extensions/KHR_materials_sheen"), &mut p, loader)?;
+        if p.sheen_color.iter().any(|&c| c > 0.0) && p.clearcoat >= quasar_materials::pbr::PBR_LOBE_THRESHOLD {
+            loader
+                .warnings
+                .push(format!("{}: {ptr}: sheen under a clear coat is not rendered (the coat is)", file.display()));
         }
     }
     if textures.base_color.is_some()

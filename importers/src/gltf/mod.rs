@@ -45,11 +45,12 @@ use crate::scene_desc::{MaterialDesc, NamedCamera, SceneDesc};
 use crate::texture_desc::MaterialTextures;
 
 /// glTF extensions the importer understands (mapped or approximated as documented).
-pub const SUPPORTED_EXTENSIONS: [&str; 8] = [
+pub const SUPPORTED_EXTENSIONS: [&str; 9] = [
     "KHR_lights_punctual",
     "KHR_materials_clearcoat",
     "KHR_materials_emissive_strength",
     "KHR_materials_ior",
+    "KHR_materials_sheen",
     "KHR_materials_specular",
     "KHR_materials_transmission",
     "KHR_materials_volume",

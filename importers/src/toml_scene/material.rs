@@ -1,4 +1,4 @@
-//! `[materials.NAME]` tables: `type = "diffuse" | "conductor" | "dielectric" | "coated"`, or
+//! `[materials.NAME]` tables: `type = "diffuse" | "conductor" | "dielectric" | "coated" | "sheen"`, or
 //! `file = "x.toml"` for a tabulated BSDF (see `crate::bsdf_file`); a transmitting one (a
 //! dielectric or a tabulated BSDF) may absorb inside (`absorption`, or `internal_transmittance`
 //! at a `thickness`) and scatter (`scattering` with `phase_g`).
@@ -11,7 +11,7 @@ use crate::error::{ImportError, ImportErrorKind, did_you_mean};
 use crate::toml_reader::{Tbl, Val, float, floats, string};
 
 /// Material types of the TOML format.
-pub const MATERIAL_TYPES: [&str; 4] = ["diffuse", "conductor", "dielectric", "coated"];
+pub const MATERIAL_TYPES: [&str; 5] = ["diffuse", "conductor", "dielectric", "coated", "sheen"];
 
 /// Glass names that [`Ior::named`] knows (for suggestions in messages).
 const GLASS_NAMES: [&str; 10] =
@@ -176,6 +176,11 @@ pub(crate) fn material(t: &Tbl<'_>, unit: f32) -> Result<(Material, Interior), I
             Material::Conductor { alpha: alpha(t)?, fresnel, two_sided: t.opt_bool("two_sided")?.unwrap_or(true) }
         }
         "coated" => coated(t, unit)?,
+        "sheen" => {
+            t.check_keys(&["type", "color", "alpha", "roughness", "base"])?;
+            let color = spectrum(doc, t.req("color")?, &t.key_path("color"), SpectrumUse::Reflectance)?;
+            Material::Sheen { color, alpha: alpha(t)?, base: Box::new(layer_base(t, unit, "sheen")?) }
+        }
         _ => {
             t.check_keys(&[&["type", "ior", "alpha", "roughness", "transmittance"][..], &ABSORPTION_KEYS].concat())?;
             let v = t.req("ior")?;
@@ -220,25 +225,29 @@ fn coated(t: &Tbl<'_>, unit: f32) -> Result<Material, ImportError> {
         }
         None => None,
     };
+    Ok(Material::Coated {
+        coating: Coating::new(ior, alpha(t)?, absorption),
+        base: Box::new(layer_base(t, unit, "coat")?),
+        two_sided: t.opt_bool("two_sided")?.unwrap_or(true),
+    })
+}
+
+/// The `base` table of a layered material (a coat's or a sheen's, `what`): a diffuse or conductor
+/// material, or an opaque tabulated BSDF (`file`).
+fn layer_base(t: &Tbl<'_>, unit: f32, what: &str) -> Result<Material, ImportError> {
     let Some(b) = t.opt_table("base")? else {
         return Err(t.missing("base"));
     };
-    let base = if b.has("file") || b.opt_str("type")?.is_some_and(|ty| ty != "dielectric" && ty != "coated") {
-        material(&b, unit)?.0
-    } else {
-        return Err(doc.invalid(
-            &b.span,
-            format!(
-                "`{}`: a coat's base is a diffuse or conductor material, or an opaque tabulated BSDF (`file`)",
-                b.path
-            ),
-        ));
-    };
-    Ok(Material::Coated {
-        coating: Coating::new(ior, alpha(t)?, absorption),
-        base: Box::new(base),
-        two_sided: t.opt_bool("two_sided")?.unwrap_or(true),
-    })
+    if b.has("file") || b.opt_str("type")?.is_some_and(|ty| matches!(ty, "diffuse" | "conductor")) {
+        return Ok(material(&b, unit)?.0);
+    }
+    Err(t.doc.invalid(
+        &b.span,
+        format!(
+            "`{}`: a {what}'s base is a diffuse or conductor material, or an opaque tabulated BSDF (`file`)",
+            b.path
+        ),
+    ))
 }
 
 /// `ior = 1.5 | "BK7" | { cauchy = [a, b] } | { sellmeier = { b = [...], c = [...] } }`.

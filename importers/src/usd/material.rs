@@ -275,6 +275,7 @@ pub(super) fn convert(
         ior: if ior.is_finite() && ior >= 1.0 { ior } else { 1.5 },
         clearcoat,
         clearcoat_roughness,
+        ..PbrParams::default()
     };
     if maps.base_color.is_some() || maps.metallic_roughness.is_some() || maps.normal.is_some() {
         maps.pbr = Some(params);

@@ -13,6 +13,7 @@ pub mod dielectric;
 pub mod diffuse;
 pub mod fresnel;
 pub mod microfacet;
+pub mod sheen;
 pub mod tabulated;
 
 pub use coated::{CoatBase, CoatedBsdf};
@@ -21,6 +22,7 @@ pub use dielectric::DielectricBsdf;
 pub use diffuse::DiffuseBsdf;
 pub use fresnel::SampledFresnel;
 pub use microfacet::TrowbridgeReitz;
+pub use sheen::SheenBsdf;
 pub use tabulated::TabulatedBsdf;
 
 /// Which quantity a path carries: radiance (camera paths) or importance (light paths / photons).
@@ -108,6 +110,8 @@ pub enum Bsdf<'a> {
     Tabulated(TabulatedBsdf<'a>),
     /// A dielectric coat over an opaque base (layered, position-free).
     Coated(CoatedBsdf<'a>),
+    /// A sheen (fibre) layer over an opaque base.
+    Sheen(SheenBsdf<'a>),
 }
 
 impl Bsdf<'_> {
@@ -127,6 +131,7 @@ impl Bsdf<'_> {
             Bsdf::Dielectric(b) => Some(Bsdf::Dielectric(b)),
             Bsdf::Tabulated(_) => None,
             Bsdf::Coated(b) => b.detached().map(Bsdf::Coated),
+            Bsdf::Sheen(b) => b.detached().map(Bsdf::Sheen),
         }
     }
 
@@ -139,6 +144,7 @@ impl Bsdf<'_> {
             Bsdf::Dielectric(b) => b.f(wo, wi, mode),
             Bsdf::Tabulated(b) => b.f(wo, wi, mode),
             Bsdf::Coated(b) => b.f(wo, wi, mode),
+            Bsdf::Sheen(b) => b.f_pdf(wo, wi, mode).0,
         }
     }
 
@@ -153,6 +159,7 @@ impl Bsdf<'_> {
             Bsdf::Dielectric(b) => b.f_pdf(wo, wi, mode),
             Bsdf::Tabulated(b) => (b.f(wo, wi, mode), b.pdf(wo, wi, mode)),
             Bsdf::Coated(b) => b.f_pdf(wo, wi, mode),
+            Bsdf::Sheen(b) => b.f_pdf(wo, wi, mode),
         }
     }
 
@@ -167,6 +174,7 @@ impl Bsdf<'_> {
             Bsdf::Dielectric(b) => b.sample_f(wo, uc, u, mode),
             Bsdf::Tabulated(b) => b.sample_f(wo, uc, u, mode),
             Bsdf::Coated(b) => b.sample_f(wo, uc, u, mode),
+            Bsdf::Sheen(b) => b.sample_f(wo, uc, u, mode),
         }
     }
 
@@ -179,6 +187,7 @@ impl Bsdf<'_> {
             Bsdf::Dielectric(b) => b.pdf(wo, wi, mode),
             Bsdf::Tabulated(b) => b.pdf(wo, wi, mode),
             Bsdf::Coated(b) => b.pdf(wo, wi, mode),
+            Bsdf::Sheen(b) => b.f_pdf(wo, wi, mode).1,
         }
     }
 
@@ -186,7 +195,7 @@ impl Bsdf<'_> {
     /// [`Bsdf::Black`] has no lobes and reports false (like pbrt-v4's empty flags).
     pub fn is_specular(&self) -> bool {
         match self {
-            Bsdf::Black | Bsdf::Diffuse(_) | Bsdf::Tabulated(_) | Bsdf::Coated(_) => false,
+            Bsdf::Black | Bsdf::Diffuse(_) | Bsdf::Tabulated(_) | Bsdf::Coated(_) | Bsdf::Sheen(_) => false,
             Bsdf::Conductor(b) => b.is_specular(),
             Bsdf::Dielectric(b) => b.is_specular(),
         }
@@ -208,7 +217,7 @@ impl Bsdf<'_> {
     pub fn ideal_directions(&self, wo: Vec3) -> (Option<Vec3>, Option<Vec3>) {
         let mirror = Vec3::new(-wo.x, -wo.y, wo.z);
         match self {
-            Bsdf::Black | Bsdf::Diffuse(_) => (None, None),
+            Bsdf::Black | Bsdf::Diffuse(_) | Bsdf::Sheen(_) => (None, None),
             Bsdf::Conductor(_) | Bsdf::Coated(_) => (Some(mirror), None),
             Bsdf::Dielectric(b) => (Some(mirror), refract(wo, Vec3::Z, b.eta).map(|(wt, _)| wt.normalize())),
             Bsdf::Tabulated(b) => {
@@ -285,6 +294,10 @@ mod tests {
                     v.push(Bsdf::Coated(CoatedBsdf::new(coat, eta, row, d, SampledSpectrum::one(), base, false)));
                 }
             }
+        }
+        for alpha in [0.0f32, 0.01, 0.3, 1.0, f32::NAN] {
+            let base = CoatBase::Diffuse(DiffuseBsdf::new(SampledSpectrum::one(), true));
+            v.push(Bsdf::Sheen(SheenBsdf::new(SampledSpectrum([1.0, 0.5, 0.0, 1.0]), 1.0, alpha, base, alpha > 0.1)));
         }
         v
     }
