@@ -9,7 +9,7 @@
 //! | conductor, constant Fresnel F | `conductor`/`roughconductor` with `material = "none"` (F = 1) and `specular_reflectance` = F |
 //! | conductor, eta + i k | `eta`, `k` spectra |
 //! | dielectric, constant IOR | `dielectric`/`roughdielectric`, `int_ior`, `ext_ior` = 1 |
-//! | coated over a Lambertian or conductor base | the physical layer: the base's BSDF under a `dielectric`/`roughdielectric` copy of the mesh 2 mm (1 + max coordinate) above it ([`super::mitsuba_coat::coat_shape`]) |
+//! | coated over a Lambertian or conductor base | the physical layer: the base's BSDF under a `dielectric`/`roughdielectric` copy of the mesh 2 mm (1 + max coordinate) above it ([`super::mitsuba_obj::coat_shape`]) |
 //! | GGX alpha (used directly), visible-normal sampling | `distribution = "ggx"`, `alpha`, `sample_visible` |
 //! | emissive mesh (front face) | `area` emitter with `radiance` |
 //! | point, directional, environment | `point` (`intensity`), `directional` (`irradiance`), `constant` (`radiance`) |
@@ -221,23 +221,7 @@ pub fn export(desc: &SceneDesc, width: u32, height: u32, spp: u32) -> Result<Mit
     let mut meshes = Vec::new();
     for (i, m) in desc.meshes.iter().enumerate() {
         let file = format!("mesh{i}.obj");
-        let mut obj = String::new();
-        for p in &m.positions {
-            let _ = writeln!(obj, "v {} {} {}", p.x, p.y, p.z);
-        }
-        if let Some(ns) = &m.normals {
-            for n in ns {
-                let _ = writeln!(obj, "vn {} {} {}", n.x, n.y, n.z);
-            }
-        }
-        for t in &m.indices {
-            let [a, b, c] = t.map(|v| v + 1);
-            if m.normals.is_some() {
-                let _ = writeln!(obj, "f {a}//{a} {b}//{b} {c}//{c}");
-            } else {
-                let _ = writeln!(obj, "f {a} {b} {c}");
-            }
-        }
+        let obj = super::mitsuba_obj::obj_text(&m.positions, m.normals.as_deref(), &m.indices);
         let emitter = match &m.emission {
             Some(e) if e.two_sided => return Err(format!("mesh '{}': two-sided emission", m.name)),
             Some(e) => format!("<emitter type=\"area\">{}</emitter>", spectrum_tag("radiance", &e.spectrum, e.scale)),
@@ -250,24 +234,20 @@ pub fn export(desc: &SceneDesc, width: u32, height: u32, spp: u32) -> Result<Mit
                 String::new()
             }
         });
-        let _ = writeln!(
-            xml,
-            "<shape type=\"obj\"><string name=\"filename\" value=\"{file}\"/><boolean name=\"face_normals\" value=\"{}\"/>\
-             <ref id=\"mat{}\"/>{emitter}{medium}</shape>",
-            m.normals.is_none(),
-            m.material
-        );
+        // an OBJ shape of `file` with the BSDF `bsdf` and further elements `extra`
+        let shape = |file: &str, bsdf: &str, extra: &str| {
+            format!(
+                "<shape type=\"obj\"><string name=\"filename\" value=\"{file}\"/><boolean name=\"face_normals\" value=\"{}\"/>\
+                 <ref id=\"{bsdf}\"/>{extra}</shape>",
+                m.normals.is_none()
+            )
+        };
+        let _ = writeln!(xml, "{}", shape(&file, &format!("mat{}", m.material), &format!("{emitter}{medium}")));
         meshes.push((file, obj));
         if matches!(desc.materials.get(m.material).map(|d| &d.material), Some(Material::Coated { .. })) {
             let file = format!("coat{i}.obj");
-            let _ = writeln!(
-                xml,
-                "<shape type=\"obj\"><string name=\"filename\" value=\"{file}\"/><boolean name=\"face_normals\" value=\"{}\"/>\
-                 <ref id=\"coat{}\"/></shape>",
-                m.normals.is_none(),
-                m.material
-            );
-            meshes.push((file, super::mitsuba_coat::coat_shape(m)));
+            let _ = writeln!(xml, "{}", shape(&file, &format!("coat{}", m.material), ""));
+            meshes.push((file, super::mitsuba_obj::coat_shape(m)));
         }
     }
     for l in &desc.lights {

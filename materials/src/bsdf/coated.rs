@@ -31,40 +31,9 @@ use glam::{Vec2, Vec3};
 use super::coat_albedo::{CoatRow, RoughnessPos};
 use super::fresnel::fr_dielectric;
 use super::microfacet::TrowbridgeReitz;
-use super::{BsdfSample, ConductorBsdf, DiffuseBsdf, Lobe, TabulatedBsdf, TransportMode, reflect};
+use super::{BsdfSample, CoatBase, Lobe, TransportMode, mirror_z as flip, reflect, reflecting_side};
 use crate::spectrum::SampledSpectrum;
 use std::f32::consts::PI;
-
-/// The opaque base under a coat (a closed set, enum dispatch).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum CoatBase<'a> {
-    /// Lambertian.
-    Diffuse(DiffuseBsdf),
-    /// GGX-rough conductor (alpha >= the smooth threshold).
-    Conductor(ConductorBsdf),
-    /// Tabulated reflector.
-    Tabulated(TabulatedBsdf<'a>),
-}
-
-impl CoatBase<'_> {
-    #[inline(always)]
-    fn f_pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> (SampledSpectrum, f32) {
-        match self {
-            CoatBase::Diffuse(b) => b.f_pdf(wo, wi),
-            CoatBase::Conductor(b) => b.f_pdf(wo, wi),
-            CoatBase::Tabulated(b) => (b.f(wo, wi, mode), b.pdf(wo, wi, mode)),
-        }
-    }
-
-    #[inline(always)]
-    fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
-        match self {
-            CoatBase::Diffuse(b) => b.sample_f(wo, u, mode),
-            CoatBase::Conductor(b) => b.sample_f(wo, u, mode),
-            CoatBase::Tabulated(b) => b.sample_f(wo, uc, u, mode),
-        }
-    }
-}
 
 /// A coated surface at one set of wavelengths (see the module documentation).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -128,7 +97,7 @@ impl<'a> CoatedBsdf<'a> {
         let (scale, specular_albedo, base_weight) = match &base {
             CoatBase::Diffuse(d) => {
                 let m = (one - d.r * interreflection * f_int).map(|x| 1.0 / x.max(1e-6));
-                (m * inv_eta2, zero, d.r.average())
+                (m * inv_eta2, zero, base.mean_albedo())
             }
             CoatBase::Conductor(c) => {
                 let r = c.fresnel.eval(1.0);
@@ -144,9 +113,9 @@ impl<'a> CoatedBsdf<'a> {
                     let exits = leave * (one - stay).map(|x| 1.0 / x.max(1e-6));
                     trapped_scale = r * interreflection * exits * (1.0 / (PI * eta * eta * norm));
                 }
-                (SampledSpectrum::splat(inv_eta2), r * depth.map(|tau| (-2.0 * tau).exp()), r.average())
+                (SampledSpectrum::splat(inv_eta2), r * depth.map(|tau| (-2.0 * tau).exp()), base.mean_albedo())
             }
-            CoatBase::Tabulated(_) => (SampledSpectrum::splat(inv_eta2), zero, 0.5),
+            CoatBase::Tabulated(_) => (SampledSpectrum::splat(inv_eta2), zero, base.mean_albedo()),
         };
         Self { coat, eta, albedo, depth, scale, specular_albedo, trapped_scale, base_pos, base_weight, two_sided, base }
     }
@@ -209,13 +178,7 @@ impl<'a> CoatedBsdf<'a> {
     /// Whether to mirror the configuration (Some(true)), use it (Some(false)) or return black.
     #[inline]
     fn orientation(&self, wo: Vec3) -> Option<bool> {
-        if wo.z > 0.0 {
-            Some(false)
-        } else if wo.z < 0.0 && self.two_sided {
-            Some(true)
-        } else {
-            None
-        }
+        reflecting_side(wo, self.two_sided)
     }
 
     /// f(wo, wi) and its sampling density together.
@@ -263,11 +226,7 @@ impl<'a> CoatedBsdf<'a> {
 
     /// The same BSDF over a base that borrows nothing (None for a tabulated base).
     pub(crate) fn detached(self) -> Option<CoatedBsdf<'static>> {
-        let base = match self.base {
-            CoatBase::Diffuse(b) => CoatBase::Diffuse(b),
-            CoatBase::Conductor(b) => CoatBase::Conductor(b),
-            CoatBase::Tabulated(_) => return None,
-        };
+        let base = self.base.detached()?;
         Some(CoatedBsdf {
             coat: self.coat,
             eta: self.eta,
@@ -284,17 +243,12 @@ impl<'a> CoatedBsdf<'a> {
     }
 }
 
-#[inline]
-fn flip(v: Vec3, flipped: bool) -> Vec3 {
-    if flipped { Vec3::new(v.x, v.y, -v.z) } else { v }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bsdf::SampledFresnel;
     use crate::bsdf::coat_albedo::{CoatAlbedo, coat_alpha};
     use crate::bsdf::test_util::{SplitMix, random_dir};
+    use crate::bsdf::{ConductorBsdf, DiffuseBsdf, SampledFresnel};
 
     fn coated(alpha: f32, base: CoatBase<'static>, depth: f32) -> CoatedBsdf<'static> {
         let row = CoatAlbedo::for_eta(1.5).row(alpha);

@@ -6,7 +6,7 @@ use glam::{Vec2, Vec3};
 
 use super::fresnel::SampledFresnel;
 use super::microfacet::TrowbridgeReitz;
-use super::{BsdfSample, Lobe, MIN_SPECULAR_COS, TransportMode, reflect};
+use super::{BsdfSample, Lobe, MIN_SPECULAR_COS, TransportMode, mirror_z as flip, reflect, reflecting_side};
 use crate::spectrum::SampledSpectrum;
 
 /// Smooth or GGX-rough conductor. One-sided conductors are black from behind (wo.z <= 0);
@@ -19,11 +19,6 @@ pub struct ConductorBsdf {
     pub fresnel: SampledFresnel,
     /// Reflect on both sides.
     pub two_sided: bool,
-}
-
-#[inline]
-fn flip(v: Vec3, flipped: bool) -> Vec3 {
-    if flipped { Vec3::new(v.x, v.y, -v.z) } else { v }
 }
 
 impl ConductorBsdf {
@@ -42,13 +37,7 @@ impl ConductorBsdf {
     /// black (None: wo behind a one-sided surface or in the tangent plane).
     #[inline]
     fn orientation(&self, wo: Vec3) -> Option<bool> {
-        if wo.z > 0.0 {
-            Some(false)
-        } else if wo.z < 0.0 && self.two_sided {
-            Some(true)
-        } else {
-            None
-        }
+        reflecting_side(wo, self.two_sided)
     }
 
     /// f (when `want_f`, else 0) and pdf for wo in the upper hemisphere (shared by `f`, `pdf` and

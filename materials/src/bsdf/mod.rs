@@ -7,6 +7,7 @@ use glam::Vec3;
 use crate::spectrum::SampledSpectrum;
 
 pub mod coat_albedo;
+pub mod coat_base;
 pub mod coated;
 pub mod conductor;
 pub mod dielectric;
@@ -16,7 +17,8 @@ pub mod microfacet;
 pub mod sheen;
 pub mod tabulated;
 
-pub use coated::{CoatBase, CoatedBsdf};
+pub use coat_base::CoatBase;
+pub use coated::CoatedBsdf;
 pub use conductor::ConductorBsdf;
 pub use dielectric::DielectricBsdf;
 pub use diffuse::DiffuseBsdf;
@@ -64,6 +66,26 @@ pub struct BsdfSample {
 
 /// Specular samples whose |cos wi| is below this are dropped: f = weight / |cos| would overflow.
 pub(crate) const MIN_SPECULAR_COS: f32 = 1e-30;
+
+/// The side a reflector that reflects on one face (or both, `two_sided`) sees `wo` from:
+/// Some(false) above, Some(true) below (the configuration is mirrored into the upper hemisphere
+/// with [`mirror_z`]), None where it is black (behind a one-sided surface, in the tangent plane).
+#[inline]
+pub(crate) fn reflecting_side(wo: Vec3, two_sided: bool) -> Option<bool> {
+    if wo.z > 0.0 {
+        Some(false)
+    } else if wo.z < 0.0 && two_sided {
+        Some(true)
+    } else {
+        None
+    }
+}
+
+/// `v` with its z negated when `flipped` (see [`reflecting_side`]).
+#[inline]
+pub(crate) fn mirror_z(v: Vec3, flipped: bool) -> Vec3 {
+    if flipped { Vec3::new(v.x, v.y, -v.z) } else { v }
+}
 
 /// Mirror reflection of `wo` about the unit normal `n`: 2 (wo . n) n - wo.
 #[inline]

@@ -18,7 +18,7 @@ use std::sync::LazyLock;
 
 use glam::{Vec2, Vec3};
 
-use super::{BsdfSample, CoatBase, Lobe, TransportMode};
+use super::{BsdfSample, CoatBase, Lobe, TransportMode, mirror_z, reflecting_side};
 use crate::spectrum::SampledSpectrum;
 
 /// Smallest sheen alpha (the extension's renderers clamp similarly; below it D overflows f32).
@@ -119,11 +119,7 @@ impl<'a> SheenBsdf<'a> {
     /// the spectrum) and alpha (clamped to [`MIN_SHEEN_ALPHA`], 1) over `base`.
     pub fn new(color: SampledSpectrum, color_max: f32, alpha: f32, base: CoatBase<'a>, two_sided: bool) -> Self {
         let alpha = if alpha.is_finite() { alpha.clamp(MIN_SHEEN_ALPHA, 1.0) } else { 1.0 };
-        let base_weight = match &base {
-            CoatBase::Diffuse(d) => d.r.average(),
-            CoatBase::Conductor(c) => c.fresnel.eval(1.0).average(),
-            CoatBase::Tabulated(_) => 0.5,
-        };
+        let base_weight = base.mean_albedo();
         let color = color.clamp_unit();
         let color_max = if color_max.is_finite() { color_max.clamp(color.max_component(), 1.0) } else { 1.0 };
         Self { color, color_max, alpha, base_weight, two_sided, base }
@@ -144,11 +140,7 @@ impl<'a> SheenBsdf<'a> {
         let (eo, ei) = (table.albedo(self.alpha, wo.z), table.albedo(self.alpha, wi.z));
         let scale = 1.0 - self.color_max * eo.max(ei).min(1.0);
         let norm = eo.max(ei).max(1.0);
-        let (fb, pb) = match &self.base {
-            CoatBase::Diffuse(b) => b.f_pdf(wo, wi),
-            CoatBase::Conductor(b) => b.f_pdf(wo, wi),
-            CoatBase::Tabulated(b) => (b.f(wo, wi, mode), b.pdf(wo, wi, mode)),
-        };
+        let (fb, pb) = self.base.f_pdf(wo, wi, mode);
         let f = self.color * (lobe(self.alpha, wo, wi) / norm) + fb * scale.max(0.0);
         let p = self.sheen_probability(wo.z);
         let pdf = p * wi.z / PI + (1.0 - p) * pb;
@@ -158,41 +150,24 @@ impl<'a> SheenBsdf<'a> {
         (f, pdf)
     }
 
-    fn flip(&self, wo: Vec3) -> Option<bool> {
-        if wo.z > 0.0 {
-            Some(false)
-        } else if wo.z < 0.0 && self.two_sided {
-            Some(true)
-        } else {
-            None
-        }
-    }
-
     /// f and pdf together.
     pub fn f_pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> (SampledSpectrum, f32) {
-        let m = |v: Vec3, fl: bool| if fl { Vec3::new(v.x, v.y, -v.z) } else { v };
-        match self.flip(wo) {
-            Some(fl) => self.eval_upper(m(wo, fl), m(wi, fl), mode),
+        match reflecting_side(wo, self.two_sided) {
+            Some(fl) => self.eval_upper(mirror_z(wo, fl), mirror_z(wi, fl), mode),
             None => (SampledSpectrum::zero(), 0.0),
         }
     }
 
     /// The sheen lobe (cosine-weighted) with probability P(cos o), else the base's sample.
     pub fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
-        let fl = self.flip(wo)?;
-        let m = |v: Vec3| if fl { Vec3::new(v.x, v.y, -v.z) } else { v };
-        let wo_u = m(wo);
+        let fl = reflecting_side(wo, self.two_sided)?;
+        let wo_u = mirror_z(wo, fl);
         let p = self.sheen_probability(wo_u.z);
         let wi = if uc < p {
             crate::warp::cosine_hemisphere(u)
         } else {
             let uc = ((uc - p) / (1.0 - p)).min(1.0 - f32::EPSILON);
-            let s = match &self.base {
-                CoatBase::Diffuse(b) => b.sample_f(wo_u, u, mode),
-                CoatBase::Conductor(b) => b.sample_f(wo_u, u, mode),
-                CoatBase::Tabulated(b) => b.sample_f(wo_u, uc, u, mode),
-            }?;
-            s.wi
+            self.base.sample_f(wo_u, uc, u, mode)?.wi
         };
         if wi.z <= 0.0 {
             return None;
@@ -201,16 +176,12 @@ impl<'a> SheenBsdf<'a> {
         if pdf.is_nan() || pdf <= 0.0 || f.is_black() {
             return None;
         }
-        Some(BsdfSample { f, wi: m(wi), pdf, lobe: Lobe::Reflection, specular: false, eta: 1.0 })
+        Some(BsdfSample { f, wi: mirror_z(wi, fl), pdf, lobe: Lobe::Reflection, specular: false, eta: 1.0 })
     }
 
     /// The same BSDF over a base that borrows nothing (None for a tabulated base).
     pub(crate) fn detached(self) -> Option<SheenBsdf<'static>> {
-        let base = match self.base {
-            CoatBase::Diffuse(b) => CoatBase::Diffuse(b),
-            CoatBase::Conductor(b) => CoatBase::Conductor(b),
-            CoatBase::Tabulated(_) => return None,
-        };
+        let base = self.base.detached()?;
         Some(SheenBsdf {
             color: self.color,
             color_max: self.color_max,

@@ -1,7 +1,28 @@
-//! The physical layer of a coated mesh for the Mitsuba export (`super::mitsuba_export`): Mitsuba
-//! has no coated BSDF of quasar's model, so a coat is written as the surface it stands for.
+//! The OBJ files of the Mitsuba export (`super::mitsuba_export`): a mesh as it is, and the
+//! physical layer of a coated mesh (Mitsuba has no coated BSDF of quasar's model, so a coat is
+//! written as the surface it stands for).
 
 use std::fmt::Write as _;
+
+/// A triangle mesh as OBJ text: its positions, its vertex normals when it has them, its faces.
+pub fn obj_text(positions: &[glam::Vec3], normals: Option<&[glam::Vec3]>, indices: &[[u32; 3]]) -> String {
+    let mut obj = String::new();
+    for p in positions {
+        let _ = writeln!(obj, "v {} {} {}", p.x, p.y, p.z);
+    }
+    for n in normals.unwrap_or_default() {
+        let _ = writeln!(obj, "vn {} {} {}", n.x, n.y, n.z);
+    }
+    for t in indices {
+        let [a, b, c] = t.map(|v| v + 1);
+        if normals.is_some() {
+            let _ = writeln!(obj, "f {a}//{a} {b}//{b} {c}//{c}");
+        } else {
+            let _ = writeln!(obj, "f {a} {b} {c}");
+        }
+    }
+    obj
+}
 
 /// The coat of a coated mesh as its own surface for Mitsuba: the mesh moved along its normals
 /// (the vertex normals, else the area-weighted normals of the faces around each vertex) by
@@ -28,28 +49,9 @@ pub fn coat_shape(m: &quasar_importers::MeshDesc) -> String {
             }
         }
     }
-    let (lo, hi) = m
-        .positions
-        .iter()
-        .fold((glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN)), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
+    let (lo, hi) = quasar_importers::framing::mesh_bounds(std::slice::from_ref(m)).unwrap_or_default();
     let d = COAT_GAP * (1.0 + lo.abs().max(hi.abs()).max_element());
-    let mut obj = String::new();
-    for (p, n) in m.positions.iter().zip(&normals) {
-        let q = *p + d * n.normalize_or_zero();
-        let _ = writeln!(obj, "v {} {} {}", q.x, q.y, q.z);
-    }
-    if m.normals.is_some() {
-        for n in &normals {
-            let _ = writeln!(obj, "vn {} {} {}", n.x, n.y, n.z);
-        }
-    }
-    for t in &m.indices {
-        let [a, b, c] = t.map(|v| v + 1);
-        if m.normals.is_some() {
-            let _ = writeln!(obj, "f {a}//{a} {b}//{b} {c}//{c}");
-        } else {
-            let _ = writeln!(obj, "f {a} {b} {c}");
-        }
-    }
-    obj
+    let moved: Vec<glam::Vec3> =
+        m.positions.iter().zip(&normals).map(|(p, n)| *p + d * n.normalize_or_zero()).collect();
+    obj_text(&moved, m.normals.as_deref(), &m.indices)
 }
