@@ -143,6 +143,17 @@ fn extreme_absorption_stays_finite() {
     }
 }
 
+/// `absorption = "PMMA"` is the measured absorption of `Absorption::named` (issue 49 item 4).
+#[test]
+fn a_named_absorption_is_the_measured_one() {
+    let materials = "[materials.pmma]\ntype = \"dielectric\"\nior = \"PMMA\"\nabsorption = \"acrylic\"\n";
+    let scene = write_scene(&SLAB.replace("MATERIALS", materials).replace("SHAPES", &slab("pmma", 0.01)), &[]);
+    let desc = quasar::render::job::load_scene_with(&scene.path, &Default::default()).unwrap();
+    let m = desc.materials.iter().find(|m| m.name == "pmma").unwrap();
+    assert_eq!(m.absorption, quasar_materials::Absorption::named("PMMA"));
+    assert!(m.absorption.is_some());
+}
+
 /// glTF's `KHR_materials_volume` is the absorption of the transmissive material's inside: white
 /// light turns into `attenuationColor` over `attenuationDistance` (world units, times --units).
 #[test]

@@ -1,8 +1,10 @@
-//! Named optical materials: glasses by their published Sellmeier fits ([`Ior::named`]) and
-//! metals by their measured complex indices ([`ConductorFresnel::named`]), each with its source.
+//! Named optical materials: glasses by their published Sellmeier fits ([`Ior::named`]), their
+//! bulk absorption by measured extinction coefficients ([`Absorption::named`]) and metals by
+//! their measured complex indices ([`ConductorFresnel::named`]), each with its source.
 
+use crate::absorption::Absorption;
 use crate::material::{ConductorFresnel, Ior};
-use crate::spectrum::Spectrum;
+use crate::spectrum::{LAMBDA_MAX, LAMBDA_MIN, Spectrum};
 
 impl Ior {
     /// A named optical material (case-insensitive), all Sellmeier fits with lambda in um:
@@ -29,6 +31,75 @@ impl Ior {
             "polycarbonate" | "pc" => sellmeier([1.4182, 0.0, 0.0], [0.021_304, 0.0, 0.0]),
             _ => None,
         }
+    }
+}
+
+/// (wavelength nm, k) rows of a transparent material's measured extinction coefficient.
+type KTable = &'static [(f32, f32)];
+
+/// PMMA (Mitsubishi): Zhang, Qiu, Li, Zhao & Liu, "Complex refractive indices measurements of
+/// polymers in visible and near-infrared bands", Appl. Opt. 59, 2337 (2020), rows 400..830 nm as
+/// transcribed in the CC0 refractiveindex.info database (organic/PMMA/nk/Zhang-Mitsubishi).
+#[rustfmt::skip]
+const PMMA_ZHANG_2020: KTable = &[
+    (400.0, 2.34e-7), (410.0, 2.12e-7), (420.0, 2.05e-7), (430.0, 1.92e-7), (440.0, 1.68e-7), (450.0, 1.74e-7),
+    (460.0, 1.46e-7), (470.0, 1.35e-7), (480.0, 1.51e-7), (490.0, 1.46e-7), (500.0, 1.55e-7), (510.0, 1.49e-7),
+    (520.0, 1.53e-7), (530.0, 1.56e-7), (540.0, 1.66e-7), (550.0, 1.74e-7), (560.0, 1.78e-7), (570.0, 1.86e-7),
+    (580.0, 1.92e-7), (590.0, 1.78e-7), (600.0, 2.43e-7), (610.0, 2.11e-7), (620.0, 1.98e-7), (630.0, 1.77e-7),
+    (640.0, 1.79e-7), (650.0, 1.58e-7), (660.0, 1.48e-7), (670.0, 1.33e-7), (680.0, 1.15e-7), (690.0, 1.23e-7),
+    (700.0, 1.36e-7), (710.0, 1.31e-7), (720.0, 1.53e-7), (730.0, 1.62e-7), (740.0, 1.62e-7), (750.0, 1.49e-7),
+    (760.0, 1.04e-7), (770.0, 6.31e-8), (780.0, 1.40e-7), (790.0, 1.13e-7), (800.0, 9.92e-8), (810.0, 8.90e-8),
+    (820.0, 1.26e-7), (830.0, 3.68e-8),
+];
+
+/// Polycarbonate: the same paper (Zhang et al. 2020; refractiveindex.info organic/PC/nk/Zhang),
+/// rows 400..830 nm; the rise towards 400 nm is its yellowness.
+#[rustfmt::skip]
+const PC_ZHANG_2020: KTable = &[
+    (400.0, 1.12e-5), (410.0, 2.28e-6), (420.0, 6.31e-7), (430.0, 3.55e-7), (440.0, 2.88e-7), (450.0, 2.63e-7),
+    (460.0, 2.43e-7), (470.0, 2.39e-7), (480.0, 2.49e-7), (490.0, 2.64e-7), (500.0, 2.95e-7), (510.0, 2.97e-7),
+    (520.0, 3.16e-7), (530.0, 3.39e-7), (540.0, 3.85e-7), (550.0, 4.08e-7), (560.0, 4.27e-7), (570.0, 4.45e-7),
+    (580.0, 4.81e-7), (590.0, 4.80e-7), (600.0, 4.80e-7), (610.0, 4.37e-7), (620.0, 3.95e-7), (630.0, 3.48e-7),
+    (640.0, 3.03e-7), (650.0, 2.36e-7), (660.0, 1.76e-7), (670.0, 1.26e-7), (680.0, 9.54e-8), (690.0, 7.08e-8),
+    (700.0, 5.22e-8), (710.0, 6.91e-8), (720.0, 3.53e-8), (730.0, 2.76e-8), (740.0, 4.45e-8), (750.0, 3.44e-8),
+    (760.0, 3.53e-8), (770.0, 1.20e-8), (780.0, 5.95e-9), (790.0, 1.97e-9), (800.0, 6.27e-9), (810.0, 1.17e-8),
+    (820.0, 6.81e-8), (830.0, 2.71e-7),
+];
+
+/// Schott N-BK7: the k column of SCHOTT's Zemax catalogue 2017-01-20b (from its internal
+/// transmittance data; refractiveindex.info glass/schott/N-BK7), rows 350..1060 nm.
+#[rustfmt::skip]
+const N_BK7_SCHOTT_2017: KTable = &[
+    (350.0, 9.2894e-8), (365.0, 3.4191e-8), (370.0, 2.7405e-8), (380.0, 2.0740e-8), (390.0, 1.3731e-8),
+    (400.0, 1.0227e-8), (405.0, 9.0558e-9), (420.0, 9.3912e-9), (436.0, 1.1147e-8), (460.0, 1.0286e-8),
+    (500.0, 9.5781e-9), (546.0, 6.9658e-9), (580.0, 9.2541e-9), (620.0, 1.1877e-8), (660.0, 1.2643e-8),
+    (700.0, 8.9305e-9), (1060.0, 1.0137e-8),
+];
+
+impl Absorption {
+    /// A named material's measured bulk absorption (case-insensitive; the names of
+    /// [`Ior::named`] that have data): "acrylic"/"PMMA" and "polycarbonate"/"PC" (Zhang et al.,
+    /// Appl. Opt. 59, 2337 (2020)), "BK7"/"N-BK7" (SCHOTT catalogue 2017). The coefficient is
+    /// sigma_a(lambda) = 4 pi k(lambda) / lambda (1/m), piecewise linear between the published
+    /// wavelengths; below the first (400 nm for the polymers) it holds the first value, which
+    /// understates the polymers' absorption towards their UV edge.
+    pub fn named(name: &str) -> Option<Absorption> {
+        let table = match name.trim().to_ascii_lowercase().replace(['_', ' '], "-").as_str() {
+            "acrylic" | "pmma" => PMMA_ZHANG_2020,
+            "polycarbonate" | "pc" => PC_ZHANG_2020,
+            "bk7" | "n-bk7" => N_BK7_SCHOTT_2017,
+            _ => return None,
+        };
+        let sigma_a = |(lambda, k): (f32, f32)| 4.0 * std::f32::consts::PI * k / (lambda * 1e-9);
+        let mut rows: Vec<(f32, f32)> = table.iter().map(|&r| (r.0, sigma_a(r))).collect();
+        if rows[0].0 > LAMBDA_MIN {
+            rows.insert(0, (LAMBDA_MIN, rows[0].1));
+        }
+        debug_assert!(rows.last().is_some_and(|r| r.0 >= LAMBDA_MAX));
+        Some(Absorption::Coefficient(Spectrum::PiecewiseLinear {
+            lambda: rows.iter().map(|r| r.0).collect(),
+            values: rows.iter().map(|r| r.1).collect(),
+        }))
     }
 }
 
@@ -109,6 +180,33 @@ mod tests {
         assert_eq!(Ior::named("acrylic"), Ior::named("pmma"));
         assert!(Ior::named("unobtainium").is_none());
         assert!((Ior::Cauchy { a: 1.5, b: 0.01 }.at(500.0) - 1.54).abs() < 1e-6);
+    }
+
+    #[test]
+    fn named_absorption_is_the_published_extinction() {
+        use crate::spectrum::SampledWavelengths;
+        let at = |name: &str, l: f32| {
+            let a = Absorption::named(name).unwrap();
+            a.validate().unwrap();
+            a.sigma_a(&SampledWavelengths::from_parts([l; 4], [1.0; 4])).0[0]
+        };
+        // sigma_a = 4 pi k / lambda at a published row: PMMA k = 1.74e-7 at 550 nm (3.98 /m: a
+        // 24 cm light guide transmits exp(-0.95) = 39%), PC 4.08e-7 there, N-BK7 6.9658e-9 at 546 nm.
+        assert!((at("PMMA", 550.0) - 3.976).abs() < 0.01, "{}", at("PMMA", 550.0));
+        assert!((at("polycarbonate", 550.0) - 9.322).abs() < 0.01);
+        assert!((at("N-BK7", 546.0) - 0.1603).abs() < 1e-3);
+        // covered over the whole rendered range, never zero inside it
+        for name in ["acrylic", "PC", "bk7"] {
+            for l in [LAMBDA_MIN, 380.0, 555.0, 700.0, LAMBDA_MAX] {
+                assert!(at(name, l) > 0.0, "{name} at {l}");
+            }
+        }
+        // PC yellows: it absorbs blue far more than red; PMMA's k is nearly flat (the 1/lambda
+        // of sigma_a makes blue 1.6x red)
+        assert!(at("PC", 400.0) > 50.0 * at("PC", 650.0));
+        assert!(at("PMMA", 450.0) / at("PMMA", 650.0) < 2.0);
+        assert_eq!(Absorption::named("acrylic"), Absorption::named("PMMA"));
+        assert!(Absorption::named("water").is_none());
     }
 
     #[test]

@@ -16,6 +16,8 @@ pub const MATERIAL_TYPES: [&str; 5] = ["diffuse", "conductor", "dielectric", "co
 /// Glass names that [`Ior::named`] knows (for suggestions in messages).
 const GLASS_NAMES: [&str; 10] =
     ["BK7", "N-BK7", "fused-silica", "silica", "SiO2", "water", "acrylic", "PMMA", "polycarbonate", "PC"];
+/// Material names that [`Absorption::named`] knows (for suggestions in messages).
+const ABSORBER_NAMES: [&str; 6] = ["acrylic", "PMMA", "polycarbonate", "PC", "BK7", "N-BK7"];
 /// Metal names that [`ConductorFresnel::named`] knows (for suggestions in messages).
 const METAL_NAMES: [&str; 9] = ["Al", "aluminium", "aluminum", "Ag", "silver", "Au", "gold", "Cu", "copper"];
 
@@ -71,7 +73,7 @@ fn interior(t: &Tbl<'_>, unit: f32) -> Result<Interior, ImportError> {
 }
 
 /// The interior absorption of a transmitting material: `absorption` (sigma_a in 1/m, whatever the
-/// scene's units: a number or any spectrum), or `internal_transmittance` (a spectrum in [0, 1])
+/// scene's units: a number, any spectrum, or a measured material's name, [`Absorption::named`]), or `internal_transmittance` (a spectrum in [0, 1])
 /// at `thickness` (a length in the scene's units); None without either.
 fn absorption(t: &Tbl<'_>, unit: f32) -> Result<Option<Absorption>, ImportError> {
     let doc = t.doc;
@@ -83,7 +85,22 @@ fn absorption(t: &Tbl<'_>, unit: f32) -> Result<Option<Absorption>, ImportError>
                 format!("`{}`: `thickness` goes with `internal_transmittance`, not `absorption` (1/m)", t.path),
             ));
         }
-        Absorption::Coefficient(spectrum(doc, v, &t.key_path("absorption"), SpectrumUse::Quantity)?)
+        if let DeValue::String(_) = v.get_ref() {
+            let what = t.key_path("absorption");
+            let name = string(doc, v, &what)?;
+            Absorption::named(name).ok_or_else(|| {
+                doc.invalid(
+                    &v.span(),
+                    format!(
+                        "`{what}`: no measured absorption for \"{name}\"; known: {} (or give sigma_a in 1/m){}",
+                        ABSORBER_NAMES.join(", "),
+                        did_you_mean(name, ABSORBER_NAMES)
+                    ),
+                )
+            })?
+        } else {
+            Absorption::Coefficient(spectrum(doc, v, &t.key_path("absorption"), SpectrumUse::Quantity)?)
+        }
     } else if let Some(v) = t.get("internal_transmittance") {
         if !t.has("thickness") {
             return Err(doc.invalid(
