@@ -4,7 +4,8 @@
 The family (the default scene list): every scene of scenes/bench/ (written by
 scenes/bench/make_family.py: glass plates with every bottom finish, top roughness and lamp, an
 edge-lit light guide, glossy floors, a glass-sphere caustic, a reflector lamp, objects under a
-sky), the shipped lightguide (which Mitsuba cannot express) and the Cornell box (diffuse only).
+sky), the shipped lightguide and its diffusing variant (which Mitsuba cannot express) and the
+Cornell box (diffuse only).
 
 For every scene, in one run on one machine:
 
@@ -70,7 +71,8 @@ FAMILY = sorted(
     os.path.relpath(os.path.join(ROOT, "scenes", "bench", f), ROOT)
     for f in os.listdir(os.path.join(ROOT, "scenes", "bench"))
     if f.endswith(".toml")
-) + ["scenes/lightguide/lightguide.toml", "scenes/cornell-box/cornell-box.toml"]
+) + ["scenes/lightguide/lightguide.toml", "scenes/lightguide/lightguide-diffuser.toml",
+     "scenes/cornell-box/cornell-box.toml"]
 # Scenes whose reference Mitsuba's path tracer cannot make in minutes (its own relMSE at 65536
 # spp: reflector-lamp 1.5e-2, guide-end-fed 3e-2): what makes it instead, with its samples per
 # pixel (Mitsuba) or iterations (quasar). Mitsuba's particle tracer connects the bulb's light,
@@ -84,6 +86,7 @@ REFERENCES = {
     "reflector-lamp": ("mitsuba", "ptracer", 16384),
     "guide-end-fed": ("quasar", "quasi", 16384),
     "lightguide": ("quasar", "quasi", 16384),
+    "lightguide-diffuser": ("quasar", "quasi", 16384),
 }
 # Scenes of the family where no narrow lobe dominates: `auto` must match `pt` there, not beat
 # Mitsuba by the narrow-BSDF margin.
