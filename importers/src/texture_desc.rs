@@ -92,6 +92,12 @@ pub struct MaterialTextures {
     /// KHR_materials_clearcoat `clearcoatRoughnessTexture` (green channel, linear): multiplies
     /// `pbr.clearcoat_roughness`.
     pub clearcoat_roughness: Option<TextureRef>,
+    /// KHR_materials_sheen `sheenColorTexture` (RGB, sRGB-encoded): multiplies
+    /// `pbr.sheen_color`.
+    pub sheen_color: Option<TextureRef>,
+    /// KHR_materials_sheen `sheenRoughnessTexture` (alpha channel, linear): multiplies
+    /// `pbr.sheen_roughness`.
+    pub sheen_roughness: Option<TextureRef>,
 }
 
 impl MaterialTextures {
@@ -100,8 +106,8 @@ impl MaterialTextures {
         self.pbr.is_none()
     }
 
-    /// Every texture reference (base colour, metallic-roughness, normal map, clear coat), for
-    /// remapping texture indices when scenes are merged.
+    /// Every texture reference (base colour, metallic-roughness, normal map, clear coat, sheen),
+    /// for remapping texture indices when scenes are merged.
     pub fn references_mut(&mut self) -> impl Iterator<Item = &mut TextureRef> {
         [
             &mut self.base_color,
@@ -109,9 +115,26 @@ impl MaterialTextures {
             &mut self.normal,
             &mut self.clearcoat,
             &mut self.clearcoat_roughness,
+            &mut self.sheen_color,
+            &mut self.sheen_roughness,
         ]
         .into_iter()
         .flatten()
+    }
+
+    /// True when at least one texture reference is set (then `pbr` must carry the factors).
+    pub fn has_references(&self) -> bool {
+        [
+            self.base_color,
+            self.metallic_roughness,
+            self.normal,
+            self.clearcoat,
+            self.clearcoat_roughness,
+            self.sheen_color,
+            self.sheen_roughness,
+        ]
+        .iter()
+        .any(Option::is_some)
     }
 }
 

@@ -783,14 +783,17 @@ fn clearcoat_makes_coated_materials() {
 }
 
 /// KHR_materials_sheen (issue 50): a non-black sheen colour puts the base under a sheen of
-/// Charlie alpha sheenRoughnessFactor^2; its textures are warnings; bad factors are errors at
-/// their JSON pointer; under a clear coat the sheen is dropped with a warning.
+/// Charlie alpha sheenRoughnessFactor^2; its textures are referenced for per-hit evaluation;
+/// bad factors and texture indices are errors at their JSON pointer; under a clear coat the
+/// sheen is dropped with a warning.
 #[test]
 fn sheen_makes_sheen_materials() {
     let scene = |ext: &str| {
         let mut w = GltfWriter::new();
         w.use_extension("KHR_materials_sheen", false);
         w.use_extension("KHR_materials_clearcoat", false);
+        let img = w.image(&png(2, 2, |x, _| [255 * x as u8, 128, 0, 64]), "image/png");
+        GltfWriter::push(&mut w.textures, &format!("{{\"source\":{img}}}"));
         let m = GltfWriter::push(
             &mut w.materials,
             &format!(
@@ -806,7 +809,7 @@ fn sheen_makes_sheen_materials() {
     let d = Dir::new();
     let s = import(&d.gltf(
         "sheen",
-        &scene(r#""KHR_materials_sheen":{"sheenColorFactor":[1,0.8,0.9],"sheenRoughnessFactor":0.5,"sheenColorTexture":{"index":0}}"#),
+        &scene(r#""KHR_materials_sheen":{"sheenColorFactor":[1,0.8,0.9],"sheenRoughnessFactor":0.5,"sheenColorTexture":{"index":0},"sheenRoughnessTexture":{"index":0}}"#),
     ));
     match &s.materials[0].material {
         Material::Sheen { alpha, base, .. } => {
@@ -815,7 +818,16 @@ fn sheen_makes_sheen_materials() {
         }
         m => panic!("{m:?}"),
     }
-    assert!(s.warnings.iter().any(|w| w.contains("sheenColorTexture")), "{:?}", s.warnings);
+    // the textures multiply the factors per hit (quasar::core::texture)
+    let t = &s.materials[0].textures;
+    assert_eq!((t.sheen_color.map(|r| r.texture), t.sheen_roughness.map(|r| r.texture)), (Some(0), Some(0)));
+    assert_eq!(t.pbr.map(|p| p.sheen_color), Some([1.0, 0.8, 0.9]));
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    let (_, e) = import_err(&d.gltf(
+        "tex",
+        &scene(r#""KHR_materials_sheen":{"sheenColorFactor":[1,1,1],"sheenRoughnessTexture":{"index":3}}"#),
+    ));
+    assert!(e.contains("/materials/0/extensions/KHR_materials_sheen/sheenRoughnessTexture/index"), "{e}");
     let black = import(&d.gltf("black", &scene(r#""KHR_materials_sheen":{"sheenRoughnessFactor":0.5}"#)));
     assert!(matches!(black.materials[0].material, Material::Diffuse { .. }));
     let (_, e) = import_err(&d.gltf("bad", &scene(r#""KHR_materials_sheen":{"sheenColorFactor":[1,2,0]}"#)));

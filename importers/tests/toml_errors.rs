@@ -162,8 +162,7 @@ fn coated_material_errors() {
 /// A named absorption (issue 49 item 4) must be one with measured data.
 #[test]
 fn unknown_absorber_is_named_with_a_suggestion() {
-    let (t, e) =
-        bad_extra("[materials.bad]\ntype = \"dielectric\"\nior = 1.49\nabsorption = \"PMMX\"\n", &[]);
+    let (t, e) = bad_extra("[materials.bad]\ntype = \"dielectric\"\nior = 1.49\nabsorption = \"PMMX\"\n", &[]);
     assert_at(&e, "scene.toml", line_of(&t, "absorption = \"PMMX\""), &["no measured absorption", "PMMA", "1/m"]);
     let (t, e) = bad_extra("[materials.bad]\ntype = \"dielectric\"\nior = 1.33\nabsorption = \"water\"\n", &[]);
     assert_at(&e, "scene.toml", line_of(&t, "absorption = \"water\""), &["\"water\"", "polycarbonate"]);

@@ -98,9 +98,9 @@ pub fn mapped(r: &TextureRef, uv: Vec2) -> Vec2 {
 }
 
 /// A glTF metallic-roughness material with textures: its factors, multiplied per hit by the
-/// base-colour texel (sRGB), the metallic (blue) / roughness (green) texel (linear) and the
-/// clear coat's factor (red) and roughness (green) texels (linear), and its tangent-space
-/// normal map.
+/// base-colour texel (sRGB), the metallic (blue) / roughness (green) texel (linear), the
+/// clear coat's factor (red) and roughness (green) texels (linear) and the sheen's colour
+/// (sRGB) and roughness (alpha) texels, and its tangent-space normal map.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TexturedMaterial {
     factors: PbrParams,
@@ -110,6 +110,8 @@ pub struct TexturedMaterial {
     normal_scale: f32,
     clearcoat: Option<TextureRef>,
     clearcoat_roughness: Option<TextureRef>,
+    sheen_color: Option<TextureRef>,
+    sheen_roughness: Option<TextureRef>,
 }
 
 impl TexturedMaterial {
@@ -123,6 +125,8 @@ impl TexturedMaterial {
             normal_scale: t.normal_scale,
             clearcoat: t.clearcoat,
             clearcoat_roughness: t.clearcoat_roughness,
+            sheen_color: t.sheen_color,
+            sheen_roughness: t.sheen_roughness,
         })
     }
 
@@ -154,6 +158,19 @@ impl TexturedMaterial {
             && let Some(t) = textures.get(r.texture).map(Borrow::borrow)
         {
             p.clearcoat_roughness *= t.sample(mapped(r, uv), false)[1];
+        }
+        if let Some(r) = &self.sheen_color
+            && let Some(t) = textures.get(r.texture).map(Borrow::borrow)
+        {
+            let c = t.sample(mapped(r, uv), true);
+            for (s, c) in p.sheen_color.iter_mut().zip(c) {
+                *s *= c;
+            }
+        }
+        if let Some(r) = &self.sheen_roughness
+            && let Some(t) = textures.get(r.texture).map(Borrow::borrow)
+        {
+            p.sheen_roughness *= t.sample(mapped(r, uv), false)[3];
         }
         p
     }
@@ -218,6 +235,8 @@ mod tests {
             normal_scale: 0.5,
             clearcoat: None,
             clearcoat_roughness: None,
+            sheen_color: None,
+            sheen_roughness: None,
         };
         let t = TexturedMaterial::new(&m(Some(white), Some(black))).unwrap();
         let p = t.params_at(&textures, Vec2::new(0.1, 0.9));
@@ -233,6 +252,22 @@ mod tests {
         .unwrap();
         let p = t.params_at(&textures, Vec2::ZERO);
         assert_eq!((p.clearcoat, p.clearcoat_roughness), (0.0, 0.5));
+        // the sheen's colour (sRGB) and roughness (alpha) texels
+        let sheen = PbrParams { sheen_color: [0.5, 1.0, 0.25], sheen_roughness: 0.7, ..factors };
+        let sheen_with = |color, roughness| {
+            TexturedMaterial::new(&MaterialTextures {
+                pbr: Some(sheen),
+                sheen_color: color,
+                sheen_roughness: roughness,
+                ..m(None, None)
+            })
+            .unwrap()
+            .params_at(&textures, Vec2::ZERO)
+        };
+        let p = sheen_with(Some(white), Some(black));
+        assert_eq!((p.sheen_color, p.sheen_roughness), ([0.5, 1.0, 0.25], 0.7), "black's alpha is 1");
+        let p = sheen_with(Some(black), None);
+        assert_eq!((p.sheen_color, p.sheen_roughness), ([0.0; 3], 0.7));
         assert_eq!(t.normal_at(&textures, Vec2::ZERO), Some(Vec3::new(0.5, 0.5, 1.0)));
         // a reference to a texture that is not there leaves the factor
         let missing = TextureRef::new(7);

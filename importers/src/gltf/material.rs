@@ -70,14 +70,15 @@ fn clearcoat(
     Ok(())
 }
 
-/// Reads KHR_materials_sheen (the JSON object `sh` at `ptr`) into the factors:
-/// `sheenColorFactor` (three numbers in [0, 1], black by default) and `sheenRoughnessFactor` (a
-/// number in [0, 1], 0 by default); `sheenColorTexture` and `sheenRoughnessTexture` are not read
-/// (a warning: the factors are used).
+/// Reads KHR_materials_sheen (the JSON object `sh` at `ptr`) into the factors and textures:
+/// `sheenColorFactor` (three numbers in [0, 1], black by default), `sheenRoughnessFactor` (a
+/// number in [0, 1], 0 by default), `sheenColorTexture` (RGB, sRGB) and
+/// `sheenRoughnessTexture` (alpha), which multiply them.
 fn sheen(
     sh: &serde_json::Value,
     ptr: &str,
     p: &mut PbrParams,
+    textures: &mut MaterialTextures,
     loader: &mut TextureLoader<'_>,
 ) -> Result<(), ImportError> {
     let bad = |key: &str, v: &serde_json::Value, what: &str| {
@@ -107,10 +108,11 @@ fn sheen(
             _ => return Err(bad("sheenRoughnessFactor", v, "a number in [0, 1]")),
         }
     }
-    for key in ["sheenColorTexture", "sheenRoughnessTexture"] {
-        if sh.get(key).is_some() {
-            loader.warnings.push(format!("{}: {ptr}/{key}: not supported; the factor is used", loader.file.display()));
-        }
+    if let Some(t) = sh.get("sheenColorTexture") {
+        textures.sheen_color = Some(loader.reference_json(t, &format!("{ptr}/sheenColorTexture"))?);
+    }
+    if let Some(t) = sh.get("sheenRoughnessTexture") {
+        textures.sheen_roughness = Some(loader.reference_json(t, &format!("{ptr}/sheenRoughnessTexture"))?);
     }
     Ok(())
 }
@@ -216,19 +218,14 @@ pub(super) fn convert(
         }
     }
     if let Some(sh) = m.extensions().and_then(|e| e.get("KHR_materials_sheen")) {
-        sheen(sh, &format!("{ptr}/extensions/KHR_materials_sheen"), &mut p, loader)?;
+        sheen(sh, &format!("{ptr}/extensions/KHR_materials_sheen"), &mut p, &mut textures, loader)?;
         if p.sheen_color.iter().any(|&c| c > 0.0) && p.clearcoat >= quasar_materials::pbr::PBR_LOBE_THRESHOLD {
             loader
                 .warnings
                 .push(format!("{}: {ptr}: sheen under a clear coat is not rendered (the coat is)", file.display()));
         }
     }
-    if textures.base_color.is_some()
-        || textures.metallic_roughness.is_some()
-        || textures.normal.is_some()
-        || textures.clearcoat.is_some()
-        || textures.clearcoat_roughness.is_some()
-    {
+    if textures.has_references() {
         textures.pbr = Some(p);
     }
     let strength = finite(m.emissive_strength().unwrap_or(1.0), 1.0).max(0.0);
