@@ -89,7 +89,7 @@ pub fn bary_uv(uv: &[Vec2; 3], b1: f32, b2: f32) -> Vec2 {
 
 /// Luminance of linear sRGB (Rec. 709 weights).
 #[inline]
-fn rgb_luminance(c: [f32; 3]) -> f32 {
+pub(crate) fn rgb_luminance(c: [f32; 3]) -> f32 {
     0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
 }
 

@@ -2,6 +2,7 @@
 //! light selection.
 
 use std::f32::consts::PI;
+use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 use quasar_materials::Frame;
@@ -9,6 +10,7 @@ use quasar_materials::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 
 use crate::core::alias_table::AliasTable;
 use crate::core::emission::{Emission, bary_uv};
+use crate::core::emission_grid::EmissionGrid;
 use crate::core::env_map::EnvMap;
 use crate::core::geometry::TriangleGeom;
 use crate::core::luminaire::Luminaire;
@@ -31,6 +33,9 @@ pub enum Light {
         /// The triangle's emitted power relative to its emission's nominal colour (1 without a
         /// texture; with one, its texels' mean over the triangle over the texture's mean).
         weight: f32,
+        /// Where on the triangle light samples and photons start, following its emissive
+        /// texture (None: uniformly).
+        grid: Option<Arc<EmissionGrid>>,
     },
     /// Isotropic point light, intensity scale * spectrum (W/(sr nm)).
     Point {
@@ -115,13 +120,20 @@ impl Light {
     /// The area light of triangle `tri` emitting `emission` (an index into the emission table),
     /// untextured.
     pub fn area_triangle(tri: TriangleGeom, emission: u32) -> Self {
-        Self::Area { tri, emission, area: tri.area(), uv: [Vec2::ZERO; 3], weight: 1.0 }
+        Self::Area { tri, emission, area: tri.area(), uv: [Vec2::ZERO; 3], weight: 1.0, grid: None }
     }
 
     /// The area light of triangle `tri` with a textured emission: vertex texture coordinates
-    /// `uv` and relative power `weight` (see [`Light::Area`]).
-    pub fn area_triangle_textured(tri: TriangleGeom, emission: u32, uv: [Vec2; 3], weight: f32) -> Self {
-        Self::Area { tri, emission, area: tri.area(), uv, weight }
+    /// `uv`, relative power `weight` and the density its points are drawn from (see
+    /// [`Light::Area`]).
+    pub fn area_triangle_textured(
+        tri: TriangleGeom,
+        emission: u32,
+        uv: [Vec2; 3],
+        weight: f32,
+        grid: Option<EmissionGrid>,
+    ) -> Self {
+        Self::Area { tri, emission, area: tri.area(), uv, weight, grid: grid.map(Arc::new) }
     }
 
     /// True for lights at infinity (seen by rays that escape the scene).
@@ -164,12 +176,18 @@ impl Light {
     #[inline(always)]
     pub fn sample_li(&self, p: Vec3, u: Vec2, wl: &SampledWavelengths, emissions: &[Emission]) -> Option<LightSample> {
         match self {
-            Self::Area { tri, emission, area, uv, .. } => {
+            Self::Area { tri, emission, area, uv, grid, .. } => {
                 let (area, ng) = (*area, Vec3::from(tri.n));
                 if area.is_nan() || area <= 0.0 {
                     return None;
                 }
-                let (b1, b2) = sampling::uniform_triangle(u);
+                let (b1, b2, density) = match grid {
+                    None => {
+                        let (b1, b2) = sampling::uniform_triangle(u);
+                        (b1, b2, 1.0)
+                    }
+                    Some(g) => g.sample(u),
+                };
                 let pl = tri.point(b1, b2);
                 let d = pl - p;
                 let dist2 = d.length_squared();
@@ -186,7 +204,7 @@ impl Light {
                 if li.is_black() {
                     return None;
                 }
-                let pdf = dist2 / (cos_l * area);
+                let pdf = dist2 * density / (cos_l * area);
                 if !pdf.is_finite() {
                     return None;
                 }
@@ -254,11 +272,12 @@ impl Light {
     /// Solid-angle density with which [`sample_li`](Self::sample_li) at `p` would return the
     /// direction towards the surface point `pl` with unit normal `ng` on this area light.
     pub fn pdf_li_area(&self, p: Vec3, pl: Vec3, ng: Vec3) -> f32 {
-        let Self::Area { area, .. } = self else { return 0.0 };
+        let Self::Area { area, tri, grid, .. } = self else { return 0.0 };
         let d = pl - p;
         let dist2 = d.length_squared();
         let cos_l = ng.dot(d).abs() / dist2.sqrt();
-        let pdf = dist2 / (cos_l * *area);
+        let density = grid.as_ref().map_or(1.0, |g| g.density_at(tri, pl));
+        let pdf = dist2 * density / (cos_l * *area);
         if pdf.is_finite() { pdf } else { 0.0 }
     }
 
@@ -313,13 +332,19 @@ impl Light {
         center: Vec3,
     ) -> Option<EmittedPhoton> {
         let photon = match self {
-            Self::Area { tri, emission, area, uv, .. } => {
+            Self::Area { tri, emission, area, uv, grid, .. } => {
                 let e = &emissions[*emission as usize];
                 let area = *area;
                 if area.is_nan() || area <= 0.0 {
                     return None;
                 }
-                let (b1, b2) = sampling::uniform_triangle(u_pos);
+                let (b1, b2, density) = match grid {
+                    None => {
+                        let (b1, b2) = sampling::uniform_triangle(u_pos);
+                        (b1, b2, 1.0)
+                    }
+                    Some(g) => g.sample(u_pos),
+                };
                 let (p, p_err) = tri.point_with_error(b1, b2);
                 let mut ng = Vec3::from(tri.n);
                 // two-sided: the side is chosen by the first direction number, reused in [0, 1)
@@ -343,7 +368,7 @@ impl Light {
                 EmittedPhoton {
                     origin: crate::core::geometry::offset_origin(p, p_err, ng, dir),
                     dir,
-                    flux: le * (PI * area * sides),
+                    flux: le * (PI * area * sides / density),
                 }
             }
             Self::Point { position, spectrum, scale } => EmittedPhoton {

@@ -6,6 +6,7 @@ pub mod alias_table;
 pub mod bytes;
 pub mod camera;
 pub mod emission;
+pub mod emission_grid;
 pub mod env_map;
 pub mod geometry;
 pub mod interaction;

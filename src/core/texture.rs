@@ -65,6 +65,11 @@ impl ImageTexture {
         (self.width, self.height)
     }
 
+    /// True when lookups take the nearest texel (glTF `magFilter` NEAREST), not four.
+    pub fn is_nearest(&self) -> bool {
+        self.nearest
+    }
+
     /// The filtered value at texture coordinates `uv` (glTF convention: (0, 0) = top-left),
     /// RGBA in [0, 1]; with `srgb` the colour channels are decoded to linear before filtering.
     /// Non-finite coordinates give 0.
