@@ -154,6 +154,29 @@ fn a_named_absorption_is_the_measured_one() {
     assert!(m.absorption.is_some());
 }
 
+/// The shipped lightguide's rod absorbs as measured PMMA, and its diffusing variant includes
+/// it with scattering in the same rod (docs/lightguide.md).
+#[test]
+fn the_shipped_lightguides_carry_their_media() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/lightguide");
+    let pmma = quasar_materials::Absorption::named("PMMA");
+    let clear = quasar::render::job::load_scene_with(&root.join("lightguide.toml"), &Default::default()).unwrap();
+    let rod: Vec<_> = clear.materials.iter().filter(|m| m.name.starts_with("pmma_")).collect();
+    assert_eq!(rod.len(), 3);
+    assert!(rod.iter().all(|m| m.absorption == pmma && m.scattering.is_none()));
+    let diffuser =
+        quasar::render::job::load_scene_with(&root.join("lightguide-diffuser.toml"), &Default::default()).unwrap();
+    for mesh in diffuser.meshes.iter().filter(|m| m.emission.is_none()) {
+        let m = &diffuser.materials[mesh.material];
+        if m.name.starts_with("diffuser_") {
+            let s = m.scattering.as_ref().unwrap();
+            assert_eq!((s.coefficient.value(600.0), s.g, &m.absorption), (10.0, 0.6, &pmma));
+        } else {
+            assert!(!m.name.contains("pmma"), "{} kept the clear rod's material", m.name);
+        }
+    }
+}
+
 /// glTF's `KHR_materials_volume` is the absorption of the transmissive material's inside: white
 /// light turns into `attenuationColor` over `attenuationDistance` (world units, times --units).
 #[test]
