@@ -92,6 +92,11 @@ pub struct MaterialTextures {
     /// KHR_materials_clearcoat `clearcoatRoughnessTexture` (green channel, linear): multiplies
     /// `pbr.clearcoat_roughness`.
     pub clearcoat_roughness: Option<TextureRef>,
+    /// KHR_materials_clearcoat `clearcoatNormalTexture`: the coat's own tangent-space normal
+    /// map, used in place of `normal` where the surface is coated.
+    pub clearcoat_normal: Option<TextureRef>,
+    /// Its `scale` (multiplies the map's X and Y).
+    pub clearcoat_normal_scale: f32,
     /// KHR_materials_sheen `sheenColorTexture` (RGB, sRGB-encoded): multiplies
     /// `pbr.sheen_color`.
     pub sheen_color: Option<TextureRef>,
@@ -115,6 +120,7 @@ impl MaterialTextures {
             &mut self.normal,
             &mut self.clearcoat,
             &mut self.clearcoat_roughness,
+            &mut self.clearcoat_normal,
             &mut self.sheen_color,
             &mut self.sheen_roughness,
         ]
@@ -130,6 +136,7 @@ impl MaterialTextures {
             self.normal,
             self.clearcoat,
             self.clearcoat_roughness,
+            self.clearcoat_normal,
             self.sheen_color,
             self.sheen_roughness,
         ]

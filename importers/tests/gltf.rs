@@ -739,8 +739,8 @@ fn vertex_colours_in_bytes_and_white_ones() {
 
 /// KHR_materials_clearcoat (issue 50): a factor >= 0.5 puts the base lobe under a coat of IOR
 /// 1.5 and GGX alpha = clearcoatRoughnessFactor^2; a smaller factor leaves it uncoated; bad
-/// factors and texture indices are errors naming the JSON pointer; the coat's normal map is a
-/// warning; the extension may be required.
+/// factors and texture indices are errors naming the JSON pointer; the coat's normal map and
+/// its scale are read; the extension may be required.
 #[test]
 fn clearcoat_makes_coated_materials() {
     let ext = |cc: &str| {
@@ -751,6 +751,8 @@ fn clearcoat_makes_coated_materials() {
     let scene = |cc: &str, required: bool| {
         let mut w = GltfWriter::new();
         w.use_extension("KHR_materials_clearcoat", required);
+        let img = w.image(&png(2, 2, |_, _| [128, 140, 255, 255]), "image/png");
+        GltfWriter::push(&mut w.textures, &format!("{{\"source\":{img}}}"));
         let m = GltfWriter::push(&mut w.materials, &ext(cc));
         let p = triangle(&mut w, Some(m));
         let mesh = w.mesh("tri", &[p]);
@@ -770,9 +772,16 @@ fn clearcoat_makes_coated_materials() {
     assert!(s.warnings.is_empty(), "{:?}", s.warnings);
     let thin = import(&d.gltf("thin", &scene(r#"{"clearcoatFactor":0.3}"#, false)));
     assert!(matches!(thin.materials[0].material, Material::Diffuse { .. }));
-    let normal =
-        import(&d.gltf("normal", &scene(r#"{"clearcoatFactor":1,"clearcoatNormalTexture":{"index":0}}"#, false)));
-    assert!(normal.warnings.iter().any(|w| w.contains("clearcoatNormalTexture")), "{:?}", normal.warnings);
+    let normal = import(
+        &d.gltf("normal", &scene(r#"{"clearcoatFactor":1,"clearcoatNormalTexture":{"index":0,"scale":0.5}}"#, false)),
+    );
+    let t = &normal.materials[0].textures;
+    assert_eq!((t.clearcoat_normal.map(|r| r.texture), t.clearcoat_normal_scale), (Some(0), 0.5));
+    assert!(normal.warnings.is_empty(), "{:?}", normal.warnings);
+    let (_, e) = import_err(
+        &d.gltf("scale", &scene(r#"{"clearcoatFactor":1,"clearcoatNormalTexture":{"index":0,"scale":"x"}}"#, false)),
+    );
+    assert!(e.contains("/materials/0/extensions/KHR_materials_clearcoat/clearcoatNormalTexture/scale"), "{e}");
     let (_, e) = import_err(&d.gltf("bad", &scene(r#"{"clearcoatFactor":2}"#, false)));
     assert!(
         e.contains("/materials/0/extensions/KHR_materials_clearcoat/clearcoatFactor") && e.contains("[0, 1]"),

@@ -69,6 +69,13 @@ impl Default for PbrParams {
     }
 }
 
+/// True when [`pbr_material`] puts a clear coat over the parameters' surface: a clear coat
+/// factor >= [`PBR_LOBE_THRESHOLD`] over a metal or a non-transmissive dielectric.
+pub fn is_coated(p: &PbrParams) -> bool {
+    unit(p.clearcoat) >= PBR_LOBE_THRESHOLD
+        && !(unit(p.transmission) >= PBR_LOBE_THRESHOLD && unit(p.metallic) < PBR_LOBE_THRESHOLD)
+}
+
 /// Clamps to [0, 1]; NaN becomes 0.
 fn unit(x: f32) -> f32 {
     if x.is_nan() { 0.0 } else { x.clamp(0.0, 1.0) }
@@ -103,7 +110,7 @@ fn pbr_material_with(p: &PbrParams, uplift: impl Fn([f32; 3]) -> Spectrum) -> Ma
         Material::Diffuse { reflectance: base, two_sided: true }
     };
     let sheen = p.sheen_color.map(unit);
-    if unit(p.clearcoat) >= PBR_LOBE_THRESHOLD {
+    if is_coated(p) {
         let r = unit(p.clearcoat_roughness);
         Material::Coated { coating: Coating::clear(r * r), base: Box::new(base), two_sided: true }
     } else if sheen.iter().any(|&c| c > 0.0) {

@@ -115,6 +115,8 @@ pub struct TexturedMaterial {
     normal_scale: f32,
     clearcoat: Option<TextureRef>,
     clearcoat_roughness: Option<TextureRef>,
+    clearcoat_normal: Option<TextureRef>,
+    clearcoat_normal_scale: f32,
     sheen_color: Option<TextureRef>,
     sheen_roughness: Option<TextureRef>,
 }
@@ -130,6 +132,8 @@ impl TexturedMaterial {
             normal_scale: t.normal_scale,
             clearcoat: t.clearcoat,
             clearcoat_roughness: t.clearcoat_roughness,
+            clearcoat_normal: t.clearcoat_normal,
+            clearcoat_normal_scale: t.clearcoat_normal_scale,
             sheen_color: t.sheen_color,
             sheen_roughness: t.sheen_roughness,
         })
@@ -181,11 +185,18 @@ impl TexturedMaterial {
     }
 
     /// The tangent-space normal at mesh texture coordinates `uv`, (2 c - 1) with X and Y scaled
-    /// by `normalTexture.scale` (not normalised; None without a normal map).
+    /// by the map's `scale` (not normalised; None without a normal map): the clear coat's own
+    /// map where the point is coated ([`quasar_materials::pbr::is_coated`] of the parameters
+    /// there), else `normalTexture`. (The coated BSDF has one frame, so a coat's map stands for
+    /// the whole coated surface; glTF's base map shows only where the coat has none.)
     pub fn normal_at<T: Borrow<ImageTexture>>(&self, textures: &[T], uv: Vec2) -> Option<Vec3> {
-        let r = self.normal.as_ref()?;
+        let (r, s) = match &self.clearcoat_normal {
+            Some(c) if quasar_materials::pbr::is_coated(&self.params_at(textures, uv)) => {
+                (c, self.clearcoat_normal_scale)
+            }
+            _ => (self.normal.as_ref()?, self.normal_scale),
+        };
         let c = textures.get(r.texture)?.borrow().sample(mapped(r, uv), false);
-        let s = self.normal_scale;
         Some(Vec3::new((2.0 * c[0] - 1.0) * s, (2.0 * c[1] - 1.0) * s, 2.0 * c[2] - 1.0))
     }
 }
@@ -240,6 +251,8 @@ mod tests {
             normal_scale: 0.5,
             clearcoat: None,
             clearcoat_roughness: None,
+            clearcoat_normal: None,
+            clearcoat_normal_scale: 0.0,
             sheen_color: None,
             sheen_roughness: None,
         };
@@ -257,6 +270,19 @@ mod tests {
         .unwrap();
         let p = t.params_at(&textures, Vec2::ZERO);
         assert_eq!((p.clearcoat, p.clearcoat_roughness), (0.0, 0.5));
+        // the coat's own normal map where the point is coated, the base's elsewhere
+        let coat_normal = |clearcoat| {
+            TexturedMaterial::new(&MaterialTextures {
+                pbr: Some(PbrParams { clearcoat, metallic: 0.0, ..factors }),
+                clearcoat_normal: Some(black),
+                clearcoat_normal_scale: 2.0,
+                ..m(None, None)
+            })
+            .unwrap()
+            .normal_at(&textures, Vec2::ZERO)
+        };
+        assert_eq!(coat_normal(1.0), Some(Vec3::new(-2.0, -2.0, -1.0)));
+        assert_eq!(coat_normal(0.2), Some(Vec3::new(0.5, 0.5, 1.0)));
         // the sheen's colour (sRGB) and roughness (alpha) texels
         let sheen = PbrParams { sheen_color: [0.5, 1.0, 0.25], sheen_roughness: 0.7, ..factors };
         let sheen_with = |color, roughness| {

@@ -30,8 +30,8 @@ fn finite(v: f32, default: f32) -> f32 {
 
 /// Reads KHR_materials_clearcoat (the JSON object `cc` at `ptr`) into the factors and textures:
 /// `clearcoatFactor`, `clearcoatRoughnessFactor` (numbers in [0, 1], 0 by default),
-/// `clearcoatTexture` (red) and `clearcoatRoughnessTexture` (green); `clearcoatNormalTexture`
-/// is not read (a warning: the coat takes the base's shading normal).
+/// `clearcoatTexture` (red), `clearcoatRoughnessTexture` (green) and `clearcoatNormalTexture`
+/// (with its `scale`: the coated surface's shading normal).
 fn clearcoat(
     cc: &serde_json::Value,
     ptr: &str,
@@ -61,11 +61,23 @@ fn clearcoat(
     if let Some(t) = cc.get("clearcoatRoughnessTexture") {
         textures.clearcoat_roughness = Some(loader.reference_json(t, &format!("{ptr}/clearcoatRoughnessTexture"))?);
     }
-    if cc.get("clearcoatNormalTexture").is_some() {
-        loader.warnings.push(format!(
-            "{}: {ptr}/clearcoatNormalTexture: not supported; the coat takes the base's shading normal",
-            loader.file.display()
-        ));
+    if let Some(t) = cc.get("clearcoatNormalTexture") {
+        let at = format!("{ptr}/clearcoatNormalTexture");
+        textures.clearcoat_normal = Some(loader.reference_json(t, &at)?);
+        textures.clearcoat_normal_scale = match t.get("scale") {
+            None => 1.0,
+            Some(v) => match v.as_f64() {
+                Some(s) if s.is_finite() => s as f32,
+                _ => {
+                    return Err(super::err(
+                        crate::error::ImportErrorKind::InvalidValue,
+                        loader.file,
+                        &format!("{at}/scale"),
+                        format!("must be a number, got {v}"),
+                    ));
+                }
+            },
+        };
     }
     Ok(())
 }
