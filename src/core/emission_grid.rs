@@ -5,7 +5,7 @@
 
 use glam::{Vec2, Vec3};
 
-use crate::core::emission::{EmissionTexture, bary_uv, rgb_luminance};
+use crate::core::emission::{EmissionTexture, bary_uv, rgb_luminance, textured_weight};
 use crate::core::geometry::TriangleGeom;
 use crate::core::sampling::{Distribution1D, uniform_triangle};
 
@@ -193,6 +193,17 @@ impl EmissionGrid {
             return 1.0;
         }
         self.density((d22 * d1 - d12 * d2) / det, (d11 * d2 - d12 * d1) / det)
+    }
+}
+
+/// A textured emissive triangle's selection weight relative to its emission's nominal colour of
+/// luminance `nominal` ([`textured_weight`]; 0 where it is [`Coverage::Dark`]) and the grid its
+/// points are drawn from (None: uniformly).
+pub fn textured_triangle(t: &EmissionTexture, uv: &[Vec2; 3], nominal: f32) -> (f32, Option<EmissionGrid>) {
+    match EmissionGrid::cover(t, uv) {
+        Coverage::Dark => (0.0, None),
+        Coverage::Even => (textured_weight(t, uv, nominal), None),
+        Coverage::Grid(g) => (textured_weight(t, uv, nominal), Some(g)),
     }
 }
 

@@ -11,8 +11,8 @@ use quasar_materials::spectrum::SampledWavelengths;
 use quasar_materials::{Bsdf, Frame, Material, NonUniformity};
 use rayon::prelude::*;
 
-use crate::core::emission::{Emission, textured_weight};
-use crate::core::emission_grid::{Coverage, EmissionGrid};
+use crate::core::emission::Emission;
+use crate::core::emission_grid::textured_triangle;
 use crate::core::geometry::{Accel, Hit, NONE, Ray, TriangleGeom, TriangleInfo};
 use crate::core::light::{Light, LightSampler};
 use crate::core::texture::{ImageTexture, TexturedMaterial};
@@ -239,11 +239,7 @@ impl Scene {
                     lights.push(match (&emission_texture, &m.uvs) {
                         (Some(t), Some(uv)) => {
                             let uv = idx.map(|i| uv[i as usize]);
-                            let (weight, grid) = match EmissionGrid::cover(t, &uv) {
-                                Coverage::Dark => (0.0, None),
-                                Coverage::Even => (textured_weight(t, &uv, nominal), None),
-                                Coverage::Grid(g) => (textured_weight(t, &uv, nominal), Some(g)),
-                            };
+                            let (weight, grid) = textured_triangle(t, &uv, nominal);
                             Light::area_triangle_textured(tri, emission, uv, weight, grid)
                         }
                         _ => Light::area_triangle(tri, emission),
