@@ -37,8 +37,7 @@ const MIN_CONTRAST: f64 = 1.25;
 pub struct EmissionGrid {
     /// N: subdivisions of each edge.
     divisions: u32,
-    /// Over the 2 N^2 slots (cell i * N + j, upright then inverted); slots outside the triangle
-    /// have weight 0.
+    /// Over the N (N + 1) slots ([`slot`]: the N (N + 1) / 2 cells, upright then inverted).
     slots: Distribution1D,
 }
 
@@ -98,7 +97,7 @@ impl EmissionGrid {
             .fold(0usize, usize::saturating_add);
         let exact = reads <= MAX_BOUND_READS;
         let lum = |p: Vec2| f64::from(rgb_luminance(t.rgb(bary_uv(uv, p.x, p.y))));
-        let mut weights = vec![0.0f64; 2 * (n * n) as usize];
+        let mut weights = vec![0.0f64; slot_count(n)];
         for (i, j, inverted) in sub_triangles(n) {
             let c = corners(n, i, j, inverted);
             // the mean luminance of the centroids of a 4 x 4 grid of the sub-triangle's own
@@ -153,8 +152,8 @@ impl EmissionGrid {
             let (b1, b2) = uniform_triangle(u);
             return (b1, b2, 1.0);
         };
-        let cell = (k / 2) as u32;
-        let [a, b, c] = corners(n, cell / n, cell % n, k % 2 == 1);
+        let (i, j) = cell(n, k / 2);
+        let [a, b, c] = corners(n, i, j, k % 2 == 1);
         let (s1, s2) = uniform_triangle(Vec2::new(r, u.y));
         let p = a + (b - a) * s1 + (c - a) * s2;
         (p.x, p.y, pmf * (n * n) as f32)
@@ -250,10 +249,34 @@ fn sub_triangles(n: u32) -> impl Iterator<Item = (u32, u32, bool)> {
     })
 }
 
-/// The slot of cell (i, j)'s upright or inverted sub-triangle.
+/// The slot of cell (i, j)'s upright or inverted sub-triangle: cells packed row by row (row i
+/// holds the N - i cells j < N - i, from offset i N - i (i - 1) / 2), two slots each.
 #[inline]
 fn slot(n: u32, i: u32, j: u32, inverted: bool) -> usize {
-    2 * (i * n + j) as usize + usize::from(inverted)
+    2 * (i * n - i * i.saturating_sub(1) / 2 + j) as usize + usize::from(inverted)
+}
+
+/// Slots of an N-grid: two for each of its N (N + 1) / 2 cells (the last cell of a row has no
+/// inverted sub-triangle; its slot keeps weight 0).
+fn slot_count(n: u32) -> usize {
+    (n * (n + 1)) as usize
+}
+
+/// The cell (i, j) of packed cell index `c` ([`slot`]'s order): the row from the quadratic
+/// offset(i) = i (2 N + 1 - i) / 2 <= c, corrected for rounding.
+#[inline]
+fn cell(n: u32, c: usize) -> (u32, u32) {
+    let offset = |i: u32| (i * (2 * n + 1 - i) / 2) as usize;
+    let b = 2.0 * n as f32 + 1.0;
+    let mut i = ((b - (b * b - 8.0 * c as f32).max(0.0).sqrt()) * 0.5) as u32;
+    i = i.min(n - 1);
+    while i > 0 && offset(i) > c {
+        i -= 1;
+    }
+    while i + 1 < n && offset(i + 1) <= c {
+        i += 1;
+    }
+    (i, (c - offset(i)) as u32)
 }
 
 /// The barycentric corners (b1, b2) of cell (i, j)'s upright sub-triangle, (i, j), (i + 1, j),
@@ -328,7 +351,7 @@ mod tests {
         assert!((mean - 1.0).abs() < 2e-3, "{mean}");
         // chi-square of the drawn points over the slots
         let draws = 400_000u32;
-        let mut counts = vec![0u32; 2 * (n * n) as usize];
+        let mut counts = vec![0u32; slot_count(n)];
         let mut rng = 0x9e37_79b9_7f4a_7c15u64;
         for _ in 0..draws {
             let u = Vec2::new(next(&mut rng), next(&mut rng));
@@ -352,6 +375,22 @@ mod tests {
         let k = (dof - 1) as f64;
         let limit = k * (1.0 - 2.0 / (9.0 * k) + 3.719 * (2.0 / (9.0 * k)).sqrt()).powi(3);
         assert!(chi2 < limit, "chi2 {chi2} over {dof} slots, limit {limit}");
+    }
+
+    /// Packed slots: every sub-triangle has its own slot, inside the slot count, and `cell`
+    /// inverts the packing.
+    #[test]
+    fn slots_pack_the_cells_of_the_triangle() {
+        for n in [1, 2, 3, 7, 46, 64] {
+            let mut seen = vec![false; slot_count(n)];
+            for (i, j, inverted) in sub_triangles(n) {
+                let k = slot(n, i, j, inverted);
+                assert!(!seen[k], "n {n}: slot {k} twice");
+                seen[k] = true;
+                assert_eq!(cell(n, k / 2), (i, j), "n {n}");
+            }
+            assert_eq!(seen.iter().filter(|&&s| s).count(), (n * n) as usize);
+        }
     }
 
     /// The grid snaps to whole texels where the triangle's corners sit on texel corners.
