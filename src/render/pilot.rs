@@ -33,8 +33,12 @@ use crate::integrator::method::{Build, MethodEntry, instantiate};
 use crate::integrator::params::MethodParams;
 use crate::integrator::pass::{PassControl, PassEnd};
 
-/// Samples per pixel of the path tracer's pilot.
-pub const PILOT_SPP: u32 = 16;
+/// Samples per pixel of the path tracer's pilot. Where the path tracer's error is a rare firefly
+/// (the shipped lightguide: its pilot's relMSE ranged 0.055-790 over seeds), a pilot that draws
+/// none looks as good as the photon method's and wins; 16 spp did so on 4 seeds of 24 there,
+/// 32 spp on 1 (BENCHMARKS.md, "The fix and what it bought"). The pilot is the render's first
+/// units where `pt` wins, so the doubling costs only where the bidirectional method wins.
+pub const PILOT_SPP: u32 = 32;
 /// Iterations of the bidirectional method's pilot.
 pub const PILOT_ITERATIONS: u32 = 8;
 /// How much lower the bidirectional method's score must be for `auto` to choose it. Its pilot
