@@ -54,9 +54,10 @@ pub enum Coverage {
 
 impl EmissionGrid {
     /// How to draw the points of a triangle with vertex texture coordinates `uv` emitting `t`:
-    /// N^2 about four times the texels it covers (N <= 64), each sub-triangle weighted by the
-    /// largest emitted luminance of four points in it (its centroid and the midpoints towards
-    /// its corners), or, where those read black, by 1% of the largest luminance of the texels
+    /// N^2 about four times the texels it covers (N <= 64, snapped to texel edges by
+    /// `aligned_divisions`), each sub-triangle weighted by the mean emitted luminance of 16
+    /// points in it (the centroids of its own 4 x 4 grid: about its lit share where a texel edge
+    /// crosses it), or, where those read black, by 1% of the largest luminance of the texels
     /// that its lookups can read (nearest or bilinear, over its texture-space box): that bound
     /// is 0 only where no light is, so every lit point keeps a non-zero density. Where the
     /// bounds would read more than 4M texels, every sub-triangle keeps 1% of the mean weight
