@@ -143,43 +143,26 @@ impl TexturedMaterial {
     /// to a missing texture leaves its factor alone).
     pub fn params_at<T: Borrow<ImageTexture>>(&self, textures: &[T], uv: Vec2) -> PbrParams {
         let mut p = self.factors;
-        if let Some(r) = &self.base_color
-            && let Some(t) = textures.get(r.texture).map(Borrow::borrow)
-        {
-            let c = t.sample(mapped(r, uv), true);
-            for (b, c) in p.base_color.iter_mut().zip(c) {
-                *b *= c;
-            }
+        let texel = |r: &Option<TextureRef>, srgb| texel_at(textures, r.as_ref()?, uv, srgb);
+        let times = |factor: &mut [f32; 3], c: [f32; 4]| factor.iter_mut().zip(c).for_each(|(f, c)| *f *= c);
+        if let Some(c) = texel(&self.base_color, true) {
+            times(&mut p.base_color, c);
         }
-        if let Some(r) = &self.metallic_roughness
-            && let Some(t) = textures.get(r.texture).map(Borrow::borrow)
-        {
-            let c = t.sample(mapped(r, uv), false);
+        if let Some(c) = texel(&self.metallic_roughness, false) {
             p.roughness *= c[1];
             p.metallic *= c[2];
         }
-        if let Some(r) = &self.clearcoat
-            && let Some(t) = textures.get(r.texture).map(Borrow::borrow)
-        {
-            p.clearcoat *= t.sample(mapped(r, uv), false)[0];
+        if let Some(c) = texel(&self.clearcoat, false) {
+            p.clearcoat *= c[0];
         }
-        if let Some(r) = &self.clearcoat_roughness
-            && let Some(t) = textures.get(r.texture).map(Borrow::borrow)
-        {
-            p.clearcoat_roughness *= t.sample(mapped(r, uv), false)[1];
+        if let Some(c) = texel(&self.clearcoat_roughness, false) {
+            p.clearcoat_roughness *= c[1];
         }
-        if let Some(r) = &self.sheen_color
-            && let Some(t) = textures.get(r.texture).map(Borrow::borrow)
-        {
-            let c = t.sample(mapped(r, uv), true);
-            for (s, c) in p.sheen_color.iter_mut().zip(c) {
-                *s *= c;
-            }
+        if let Some(c) = texel(&self.sheen_color, true) {
+            times(&mut p.sheen_color, c);
         }
-        if let Some(r) = &self.sheen_roughness
-            && let Some(t) = textures.get(r.texture).map(Borrow::borrow)
-        {
-            p.sheen_roughness *= t.sample(mapped(r, uv), false)[3];
+        if let Some(c) = texel(&self.sheen_roughness, false) {
+            p.sheen_roughness *= c[3];
         }
         p
     }
@@ -196,9 +179,16 @@ impl TexturedMaterial {
             }
             _ => (self.normal.as_ref()?, self.normal_scale),
         };
-        let c = textures.get(r.texture)?.borrow().sample(mapped(r, uv), false);
+        let c = texel_at(textures, r, uv, false)?;
         Some(Vec3::new((2.0 * c[0] - 1.0) * s, (2.0 * c[1] - 1.0) * s, 2.0 * c[2] - 1.0))
     }
+}
+
+/// The texel of reference `r` at mesh texture coordinates `uv` (None when `r` names no
+/// texture of `textures`).
+#[inline]
+fn texel_at<T: Borrow<ImageTexture>>(textures: &[T], r: &TextureRef, uv: Vec2, srgb: bool) -> Option<[f32; 4]> {
+    Some(textures.get(r.texture)?.borrow().sample(mapped(r, uv), srgb))
 }
 
 #[cfg(test)]

@@ -23,6 +23,30 @@ pub(super) struct Converted {
     pub emission: Option<EmissionDesc>,
 }
 
+/// The error for the value `v` at JSON pointer `at` of `file`: it must be `what`.
+fn invalid_value(file: &Path, at: &str, what: &str, v: &serde_json::Value) -> ImportError {
+    super::err(crate::error::ImportErrorKind::InvalidValue, file, at, format!("must be {what}, got {v}"))
+}
+
+/// The number `obj[key]` (`default` when absent), which `ok` must accept; else an error at
+/// `ptr/key` of `file` saying it must be `what`.
+fn number(
+    obj: &serde_json::Value,
+    (ptr, key): (&str, &str),
+    file: &Path,
+    default: f32,
+    what: &str,
+    ok: impl Fn(f64) -> bool,
+) -> Result<f32, ImportError> {
+    match obj.get(key) {
+        None => Ok(default),
+        Some(v) => match v.as_f64() {
+            Some(x) if ok(x) => Ok(x as f32),
+            _ => Err(invalid_value(file, &format!("{ptr}/{key}"), what, v)),
+        },
+    }
+}
+
 /// Keeps finite values, replacing others by `default`.
 fn finite(v: f32, default: f32) -> f32 {
     if v.is_finite() { v } else { default }
@@ -39,20 +63,7 @@ fn clearcoat(
     textures: &mut MaterialTextures,
     loader: &mut TextureLoader<'_>,
 ) -> Result<(), ImportError> {
-    let factor = |key: &str| -> Result<f32, ImportError> {
-        match cc.get(key) {
-            None => Ok(0.0),
-            Some(v) => match v.as_f64() {
-                Some(x) if (0.0..=1.0).contains(&x) => Ok(x as f32),
-                _ => Err(super::err(
-                    crate::error::ImportErrorKind::InvalidValue,
-                    loader.file,
-                    &format!("{ptr}/{key}"),
-                    format!("must be a number in [0, 1], got {v}"),
-                )),
-            },
-        }
-    };
+    let factor = |key| number(cc, (ptr, key), loader.file, 0.0, "a number in [0, 1]", |x| (0.0..=1.0).contains(&x));
     p.clearcoat = factor("clearcoatFactor")?;
     p.clearcoat_roughness = factor("clearcoatRoughnessFactor")?;
     if let Some(t) = cc.get("clearcoatTexture") {
@@ -64,20 +75,7 @@ fn clearcoat(
     if let Some(t) = cc.get("clearcoatNormalTexture") {
         let at = format!("{ptr}/clearcoatNormalTexture");
         textures.clearcoat_normal = Some(loader.reference_json(t, &at)?);
-        textures.clearcoat_normal_scale = match t.get("scale") {
-            None => 1.0,
-            Some(v) => match v.as_f64() {
-                Some(s) if s.is_finite() => s as f32,
-                _ => {
-                    return Err(super::err(
-                        crate::error::ImportErrorKind::InvalidValue,
-                        loader.file,
-                        &format!("{at}/scale"),
-                        format!("must be a number, got {v}"),
-                    ));
-                }
-            },
-        };
+        textures.clearcoat_normal_scale = number(t, (&at, "scale"), loader.file, 1.0, "a number", f64::is_finite)?;
     }
     Ok(())
 }
@@ -93,14 +91,6 @@ fn sheen(
     textures: &mut MaterialTextures,
     loader: &mut TextureLoader<'_>,
 ) -> Result<(), ImportError> {
-    let bad = |key: &str, v: &serde_json::Value, what: &str| {
-        super::err(
-            crate::error::ImportErrorKind::InvalidValue,
-            loader.file,
-            &format!("{ptr}/{key}"),
-            format!("must be {what}, got {v}"),
-        )
-    };
     if let Some(v) = sh.get("sheenColorFactor") {
         let c: Option<Vec<f64>> = v.as_array().map(|a| a.iter().filter_map(serde_json::Value::as_f64).collect());
         match c {
@@ -111,15 +101,15 @@ fn sheen(
             {
                 p.sheen_color = [c[0] as f32, c[1] as f32, c[2] as f32];
             }
-            _ => return Err(bad("sheenColorFactor", v, "three numbers in [0, 1]")),
+            _ => {
+                let at = format!("{ptr}/sheenColorFactor");
+                return Err(invalid_value(loader.file, &at, "three numbers in [0, 1]", v));
+            }
         }
     }
-    if let Some(v) = sh.get("sheenRoughnessFactor") {
-        match v.as_f64() {
-            Some(x) if (0.0..=1.0).contains(&x) => p.sheen_roughness = x as f32,
-            _ => return Err(bad("sheenRoughnessFactor", v, "a number in [0, 1]")),
-        }
-    }
+    let unit = |x: f64| (0.0..=1.0).contains(&x);
+    p.sheen_roughness =
+        number(sh, (ptr, "sheenRoughnessFactor"), loader.file, p.sheen_roughness, "a number in [0, 1]", unit)?;
     if let Some(t) = sh.get("sheenColorTexture") {
         textures.sheen_color = Some(loader.reference_json(t, &format!("{ptr}/sheenColorTexture"))?);
     }

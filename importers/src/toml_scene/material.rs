@@ -8,7 +8,7 @@ use toml::de::DeValue;
 
 use super::spectrum::{SpectrumUse, spectrum};
 use crate::error::{ImportError, ImportErrorKind, did_you_mean};
-use crate::toml_reader::{Tbl, Val, float, floats, string};
+use crate::toml_reader::{Doc, Tbl, Val, float, floats, string};
 
 /// Material types of the TOML format.
 pub const MATERIAL_TYPES: [&str; 5] = ["diffuse", "conductor", "dielectric", "coated", "sheen"];
@@ -20,6 +20,23 @@ const GLASS_NAMES: [&str; 10] =
 const ABSORBER_NAMES: [&str; 6] = ["acrylic", "PMMA", "polycarbonate", "PC", "BK7", "N-BK7"];
 /// Metal names that [`ConductorFresnel::named`] knows (for suggestions in messages).
 const METAL_NAMES: [&str; 9] = ["Al", "aluminium", "aluminum", "Ag", "silver", "Au", "gold", "Cu", "copper"];
+
+/// The catalogue entry (`lookup`) named by the string `v` at `what`; for a name it does not
+/// know, an error at `v`: "`what`: {unknown} "name"; known: {names}{hint}" and a suggestion.
+fn named<T>(
+    doc: &Doc<'_>,
+    v: &Val<'_>,
+    what: &str,
+    unknown: &str,
+    (names, hint): (&[&str], &str),
+    lookup: impl FnOnce(&str) -> Option<T>,
+) -> Result<T, ImportError> {
+    let name = string(doc, v, what)?;
+    lookup(name).ok_or_else(|| {
+        let (known, suggestion) = (names.join(", "), did_you_mean(name, names.iter().copied()));
+        doc.invalid(&v.span(), format!("`{what}`: {unknown} \"{name}\"; known: {known}{hint}{suggestion}"))
+    })
+}
 
 /// GGX alpha from `alpha` (used directly) or `roughness` (alpha = roughness^2); default 0 (smooth).
 fn alpha(t: &Tbl<'_>) -> Result<f32, ImportError> {
@@ -86,18 +103,9 @@ fn absorption(t: &Tbl<'_>, unit: f32) -> Result<Option<Absorption>, ImportError>
             ));
         }
         if let DeValue::String(_) = v.get_ref() {
+            let hint = " (or give sigma_a in 1/m)";
             let what = t.key_path("absorption");
-            let name = string(doc, v, &what)?;
-            Absorption::named(name).ok_or_else(|| {
-                doc.invalid(
-                    &v.span(),
-                    format!(
-                        "`{what}`: no measured absorption for \"{name}\"; known: {} (or give sigma_a in 1/m){}",
-                        ABSORBER_NAMES.join(", "),
-                        did_you_mean(name, ABSORBER_NAMES)
-                    ),
-                )
-            })?
+            named(doc, v, &what, "no measured absorption for", (&ABSORBER_NAMES, hint), Absorption::named)?
         } else {
             Absorption::Coefficient(spectrum(doc, v, &t.key_path("absorption"), SpectrumUse::Quantity)?)
         }
@@ -165,18 +173,7 @@ pub(crate) fn material(t: &Tbl<'_>, unit: f32) -> Result<(Material, Interior), I
             let fresnel = if let Some(v) = t.get("fresnel") {
                 ConductorFresnel::Constant(spectrum(doc, v, &t.key_path("fresnel"), SpectrumUse::Reflectance)?)
             } else if let Some(v) = t.get("metal") {
-                let name = string(doc, v, &t.key_path("metal"))?;
-                ConductorFresnel::named(name).ok_or_else(|| {
-                    doc.invalid(
-                        &v.span(),
-                        format!(
-                            "`{}`: unknown metal \"{name}\"; known: {}{}",
-                            t.key_path("metal"),
-                            METAL_NAMES.join(", "),
-                            did_you_mean(name, METAL_NAMES)
-                        ),
-                    )
-                })?
+                named(doc, v, &t.key_path("metal"), "unknown metal", (&METAL_NAMES, ""), ConductorFresnel::named)?
             } else if t.has("eta") || t.has("k") {
                 let eta = t.req("eta")?;
                 let k = t.req("k")?;
@@ -273,19 +270,7 @@ fn ior(t: &Tbl<'_>, v: &Val<'_>) -> Result<Ior, ImportError> {
     let what = t.key_path("ior");
     match v.get_ref() {
         DeValue::Integer(_) | DeValue::Float(_) => Ok(Ior::Constant(float(doc, v, &what)?)),
-        DeValue::String(_) => {
-            let name = string(doc, v, &what)?;
-            Ior::named(name).ok_or_else(|| {
-                doc.invalid(
-                    &v.span(),
-                    format!(
-                        "`{what}`: unknown optical material \"{name}\"; known: {}{}",
-                        GLASS_NAMES.join(", "),
-                        did_you_mean(name, GLASS_NAMES)
-                    ),
-                )
-            })
-        }
+        DeValue::String(_) => named(doc, v, &what, "unknown optical material", (&GLASS_NAMES, ""), Ior::named),
         DeValue::Table(_) => {
             let it = Tbl::of(doc, v, what.clone())?;
             it.check_keys(&["cauchy", "sellmeier"])?;
