@@ -30,12 +30,15 @@ fn render(file: &Path) -> (String, quasar::output::ExrImage, Vec<u8>) {
 fn shipped_models_render_unedited_and_framed() {
     let models = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/models");
     // (file, the warnings it may give)
-    let cases: [(&str, &[&str]); 3] = [
+    let cases: [(&str, &[&str]); 4] = [
         ("cornell-box-mm.obj", &["has no light; it is lit by a uniform white environment"]),
         ("cornell-box-original.obj", &[]),
         // issue 50: KHR_materials_clearcoat required (refused before), a mostly black emissive
         // texture as the only light (it lit the model as its mean colour before)
         ("coated-paint-and-lamp.gltf", &[]),
+        // issue 50: sheen and transmission required, sheen textures, volume attenuation, signs
+        // that differ only by KHR_materials_emissive_strength
+        ("velvet-glass-and-signs.gltf", &[]),
     ];
     for (file, allowed) in cases {
         let (stderr, img, preview) = render(&models.join(file));

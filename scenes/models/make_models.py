@@ -203,3 +203,89 @@ doc = {
     "buffers": [{"byteLength": len(blob), "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}],
 }
 open('scenes/models/coated-paint-and-lamp.gltf', 'w').write(json.dumps(doc, indent=1) + '\n')
+
+# 5. a fabric, glass and sign model in the manner of Khronos' SheenChair, TransmissionTest and
+# EmissiveStrengthTest: a velvet cushion (KHR_materials_sheen with a striped sheenColorTexture
+# and a sheenRoughnessTexture) on a dark frame, clear, frosted and tinted glass spheres
+# (KHR_materials_transmission, _ior, _volume with an attenuation colour), three sign tiles on the
+# back wall whose emission differs only by KHR_materials_emissive_strength (1, 4, 16), and an
+# untextured ceiling panel as the main light. Sheen and transmission in extensionsRequired. No camera.
+def box(c, s):
+    p, n, ix = [], [], []
+    for axis in range(3):
+        for sign in (1.0, -1.0):
+            nn = [0.0, 0.0, 0.0]; nn[axis] = sign
+            u = [0.0, 0.0, 0.0]; u[(axis + 1) % 3] = 1.0
+            v = [0.0, 0.0, 0.0]; v[(axis + 2) % 3] = 1.0
+            if sign < 0: u, v = v, u
+            b = len(p)
+            for a, bb in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
+                p.append(tuple(c[k] + 0.5 * s[k] * (nn[k] + a * u[k] + bb * v[k]) for k in range(3)))
+                n.append(tuple(nn))
+            ix += [b, b + 1, b + 2, b, b + 2, b + 3]
+    uv = [(q[0] - c[0] + 0.5, q[2] - c[2] + 0.5) for q in p]
+    return p, n, ix, uv
+
+meshes = [
+    ('ground', quad([(-3, 0, 2), (3, 0, 2), (3, 0, -2), (-3, 0, -2)], (0, 1, 0)), 0),
+    ('backdrop', quad([(-3, 0, -2), (3, 0, -2), (3, 4, -2), (-3, 4, -2)], (0, 0, 1)), 0),
+    ('left', quad([(-3, 0, 2), (-3, 0, -2), (-3, 4, -2), (-3, 4, 2)], (1, 0, 0)), 0),
+    ('right', quad([(3, 0, -2), (3, 0, 2), (3, 4, 2), (3, 4, -2)], (-1, 0, 0)), 0),
+    ('frame', box((-1.6, 0.2, 0), (1.4, 0.4, 1.2)), 1),
+    ('cushion', box((-1.6, 0.55, 0), (1.3, 0.3, 1.1)), 2),
+    ('glass_clear', sphere(0.1, 0.45, 0.3, 0.45), 3),
+    ('glass_frosted', sphere(1.1, 0.45, 0.3, 0.45), 4),
+    ('glass_tinted', sphere(2.1, 0.45, 0.3, 0.45), 5),
+    ('sign_1', quad([(-1.5, 2.2, -1.99), (-0.7, 2.2, -1.99), (-0.7, 2.8, -1.99), (-1.5, 2.8, -1.99)], (0, 0, 1)), 6),
+    ('sign_4', quad([(-0.4, 2.2, -1.99), (0.4, 2.2, -1.99), (0.4, 2.8, -1.99), (-0.4, 2.8, -1.99)], (0, 0, 1)), 7),
+    ('sign_16', quad([(0.7, 2.2, -1.99), (1.5, 2.2, -1.99), (1.5, 2.8, -1.99), (0.7, 2.8, -1.99)], (0, 0, 1)), 8),
+    ('ceiling_panel', quad([(-2, 3.9, -1.0), (2, 3.9, -1.0), (2, 3.9, 1.0), (-2, 3.9, 1.0)], (0, -1, 0)), 9),
+]
+blob, views, accessors, prims = b'', [], [], []
+for name, (p, n, ix, uv), mat in meshes:
+    attrs = {"POSITION": add(b''.join(struct.pack('<3f', *v) for v in p), 34962, 5126, "VEC3", len(p),
+                             [min(v[k] for v in p) for k in range(3)], [max(v[k] for v in p) for k in range(3)]),
+             "NORMAL": add(b''.join(struct.pack('<3f', *v) for v in n), 34962, 5126, "VEC3", len(n))}
+    if uv: attrs["TEXCOORD_0"] = add(b''.join(struct.pack('<2f', *v) for v in uv), 34962, 5126, "VEC2", len(uv))
+    prims.append({"name": name, "primitives": [{"attributes": attrs, "material": mat,
+                  "indices": add(b''.join(struct.pack('<I', i) for i in ix), 34963, 5125, "SCALAR", len(ix))}]})
+# the sheen colour: gold stripes on white, 32 x 32; the sheen roughness (alpha): 0.3 and 0.8 checks
+sheen_color = png_rgba(32, 32, lambda x, y: (255, 200, 90, 255) if (x // 4) % 2 else (255, 255, 255, 255))
+sheen_rough = png_rgba(32, 32, lambda x, y: (255, 255, 255, 77 if ((x // 8) + (y // 8)) % 2 else 204))
+white_sign = [1, 1, 1]
+doc = {
+    "asset": {"version": "2.0", "generator": "scenes/models/make_models.py (quasar)"},
+    "extensionsUsed": ["KHR_materials_sheen", "KHR_materials_transmission", "KHR_materials_ior",
+                       "KHR_materials_volume", "KHR_materials_emissive_strength"],
+    "extensionsRequired": ["KHR_materials_sheen", "KHR_materials_transmission"],
+    "scene": 0, "scenes": [{"nodes": list(range(len(meshes)))}],
+    "nodes": [{"mesh": i, "name": m[0]} for i, m in enumerate(meshes)],
+    "meshes": prims,
+    "materials": [
+        {"name": "ground", "pbrMetallicRoughness": {"baseColorFactor": [0.35, 0.35, 0.35, 1], "metallicFactor": 0}},
+        {"name": "frame", "pbrMetallicRoughness": {"baseColorFactor": [0.08, 0.05, 0.03, 1], "metallicFactor": 0, "roughnessFactor": 0.5}},
+        {"name": "velvet", "pbrMetallicRoughness": {"baseColorFactor": [0.25, 0.02, 0.05, 1], "metallicFactor": 0, "roughnessFactor": 0.9},
+         "extensions": {"KHR_materials_sheen": {"sheenColorFactor": [1, 1, 1], "sheenColorTexture": {"index": 0},
+                                                "sheenRoughnessFactor": 1, "sheenRoughnessTexture": {"index": 1}}}},
+        {"name": "glass_clear", "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0, "roughnessFactor": 0},
+         "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1}, "KHR_materials_ior": {"ior": 1.5}}},
+        {"name": "glass_frosted", "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0, "roughnessFactor": 0.35},
+         "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1}, "KHR_materials_ior": {"ior": 1.5}}},
+        {"name": "glass_tinted", "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 1], "metallicFactor": 0, "roughnessFactor": 0},
+         "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1}, "KHR_materials_ior": {"ior": 1.5},
+                        "KHR_materials_volume": {"thicknessFactor": 0.9, "attenuationDistance": 0.4,
+                                                 "attenuationColor": [0.3, 0.6, 0.9]}}},
+    ] + [{"name": "sign_%d" % s, "pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1], "metallicFactor": 0},
+          "emissiveFactor": white_sign, "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": s}}}
+         for s in (1, 4, 16)] + [
+        {"name": "ceiling_panel", "pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1], "metallicFactor": 0},
+         "emissiveFactor": [1, 0.95, 0.85], "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 40}}},
+    ],
+    "textures": [{"source": 0, "sampler": 0}, {"source": 1, "sampler": 0}],
+    "samplers": [{"magFilter": 9728, "minFilter": 9728}],
+    "images": [{"mimeType": "image/png", "uri": "data:image/png;base64," + base64.b64encode(im).decode()}
+               for im in (sheen_color, sheen_rough)],
+    "accessors": accessors, "bufferViews": views,
+    "buffers": [{"byteLength": len(blob), "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}],
+}
+open('scenes/models/velvet-glass-and-signs.gltf', 'w').write(json.dumps(doc, indent=1) + '\n')

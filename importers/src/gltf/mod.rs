@@ -9,8 +9,8 @@
 //!   [`ImportOptions::units_scale`].
 //! - **Materials**: metallic-roughness mapped by [`quasar_materials::pbr`]; base colour and
 //!   metallic-roughness textures are kept for the renderer ([`MaterialTextures`]); emissive
-//!   factor x KHR_materials_emissive_strength (x the emissive texture's mean) is an area light
-//!   whose luminance in cd/m^2 is that value (see [`crate::photometric`]).
+//!   factor x KHR_materials_emissive_strength (x the emissive texture, per point) is an area
+//!   light whose luminance in cd/m^2 is that value (see [`crate::photometric`]).
 //! - **Cameras**: perspective cameras in [`SceneDesc::cameras`]; the first is the scene camera,
 //!   else the framing camera of [`crate::framing`]; orthographic ones are replaced by a perspective camera (warning).
 //! - **Lights**: KHR_lights_punctual, candela / lux converted by [`crate::photometric`].
