@@ -127,18 +127,18 @@ def png_rgba(w, h, pixel):
             + chunk(b'IDAT', zlib.compress(raw, 9)) + chunk(b'IEND', b''))
 
 def sphere(cx, cy, cz, r, nu=24, nv=12):
-    p, n, ix = [], [], []
+    p, n, ix, uv = [], [], [], []
     for j in range(nv + 1):
         th = math.pi * j / nv
         for i in range(nu + 1):
             ph = 2 * math.pi * i / nu
             d = (math.sin(th) * math.cos(ph), math.cos(th), math.sin(th) * math.sin(ph))
-            p.append((cx + r * d[0], cy + r * d[1], cz + r * d[2])); n.append(d)
+            p.append((cx + r * d[0], cy + r * d[1], cz + r * d[2])); n.append(d); uv.append((i / nu, j / nv))
     for j in range(nv):
         for i in range(nu):
             a, b = j * (nu + 1) + i, (j + 1) * (nu + 1) + i
             ix += [a, a + 1, b, a + 1, b + 1, b]
-    return p, n, ix, None
+    return p, n, ix, uv
 
 def quad(corners, normal, uvs=None):
     return list(corners), [normal] * 4, [0, 1, 2, 0, 2, 3], uvs
@@ -175,17 +175,26 @@ for name, (p, n, ix, uv), mat in meshes:
                   "indices": add(b''.join(struct.pack('<I', i) for i in ix), 34963, 5125, "SCALAR", len(ix))}]})
 # 64 x 16 texels: black but for two warm "lamp" stripes
 lamp = png_rgba(64, 16, lambda x, y: (255, 200, 150, 255) if 4 <= y < 12 and (6 <= x < 22 or 42 <= x < 58) else (0, 0, 0, 255))
+# 32 x 32 tangent-space normals of gentle bumps (orange peel)
+def peel_texel(x, y):
+    nx, ny = 0.5 * math.sin(2 * math.pi * x / 8), 0.5 * math.sin(2 * math.pi * y / 8)
+    nz = math.sqrt(max(0.0, 1 - nx * nx - ny * ny))
+    return tuple(int(round(255 * (0.5 + 0.5 * c))) for c in (nx, ny, nz)) + (255,)
+peel = png_rgba(32, 32, peel_texel)
 red = [0.6, 0.04, 0.03, 1]
 doc = {
     "asset": {"version": "2.0", "generator": "scenes/models/make_models.py (quasar)"},
-    "extensionsUsed": ["KHR_materials_clearcoat", "KHR_materials_emissive_strength"],
-    "extensionsRequired": ["KHR_materials_clearcoat"],
+    "extensionsUsed": ["KHR_materials_clearcoat", "KHR_materials_emissive_strength", "KHR_texture_transform"],
+    "extensionsRequired": ["KHR_materials_clearcoat", "KHR_texture_transform"],
     "scene": 0, "scenes": [{"nodes": list(range(len(meshes)))}],
     "nodes": [{"mesh": i, "name": m[0]} for i, m in enumerate(meshes)],
     "meshes": prims,
     "materials": [
         {"name": "ground", "pbrMetallicRoughness": {"baseColorFactor": [0.35, 0.35, 0.35, 1], "metallicFactor": 0}},
+        # ClearCoatCarPaint's declaration: an orange-peel normal map on the base (scale 0.2,
+        # repeated 3 x 3 by KHR_texture_transform, required), the coat without its own map
         {"name": "paint_smooth", "pbrMetallicRoughness": {"baseColorFactor": red, "metallicFactor": 0},
+         "normalTexture": {"index": 1, "scale": 0.2, "extensions": {"KHR_texture_transform": {"scale": [3, 3]}}},
          "extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1, "clearcoatRoughnessFactor": 0}}},
         {"name": "paint_satin", "pbrMetallicRoughness": {"baseColorFactor": red, "metallicFactor": 0},
          "extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1, "clearcoatRoughnessFactor": 0.4}}},
@@ -196,9 +205,10 @@ doc = {
          "emissiveFactor": [1, 1, 1], "emissiveTexture": {"index": 0},
          "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 60}}},
     ],
-    "textures": [{"source": 0, "sampler": 0}],
-    "samplers": [{"magFilter": 9728, "minFilter": 9728}],
-    "images": [{"mimeType": "image/png", "uri": "data:image/png;base64," + base64.b64encode(lamp).decode()}],
+    "textures": [{"source": 0, "sampler": 0}, {"source": 1, "sampler": 1}],
+    "samplers": [{"magFilter": 9728, "minFilter": 9728}, {"magFilter": 9729, "minFilter": 9987}],
+    "images": [{"mimeType": "image/png", "uri": "data:image/png;base64," + base64.b64encode(im).decode()}
+               for im in (lamp, peel)],
     "accessors": accessors, "bufferViews": views,
     "buffers": [{"byteLength": len(blob), "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}],
 }
