@@ -94,6 +94,12 @@ impl GatherRule {
     /// cone and gathers the other (the rough bottom face of a glass plate, seen from inside:
     /// its refraction is narrow, but its reflection of a lamp seen through the top face is wide
     /// and is found by the photons, not by a BSDF sample that must hit the lamp through the top).
+    /// A reflection back into a dielectric (seen from its denser side: [`reflects_inward`]) is
+    /// gathered however narrow: the path it would continue stays inside the glass, where light
+    /// sampling finds no emitter (every shadow ray meets the glass's own boundary), so passing
+    /// it through leaves its light to BSDF samples that must leave through another interface
+    /// and hit an emitter, the path tracer's estimator; the photons that entered the glass reach
+    /// it directly (BENCHMARKS.md, issue 47: the rough-bottom plates).
     /// Plain `vismap` (no cone, `pass_narrow` off) gathers everywhere.
     #[inline]
     pub fn treat(&self, scene: &Scene, si: &SurfaceInteraction, bsdf: &Bsdf, wo_local: Vec3) -> VertexTreatment {
@@ -113,7 +119,8 @@ impl GatherRule {
         }
         let (reflection, transmission) = nu.lobes_at(wo_local.z);
         let side = wo_local.z.signum();
-        match (reflection > NARROW_KAPPA, transmission > NARROW_KAPPA) {
+        let narrow_reflection = reflection > NARROW_KAPPA && !reflects_inward(bsdf, wo_local);
+        match (narrow_reflection, transmission > NARROW_KAPPA) {
             (true, true) => pass_through,
             (false, false) => VertexTreatment { pass_through: false, cone: axes, kappa: whole },
             (true, false) => VertexTreatment {
@@ -128,6 +135,14 @@ impl GatherRule {
             },
         }
     }
+}
+
+/// Whether `bsdf`'s reflection at `wo_local` goes back into a denser dielectric: a rough
+/// dielectric interface seen from its inside (relative IOR above 1 and `wo` below the surface,
+/// or below 1 and above it).
+#[inline]
+pub fn reflects_inward(bsdf: &Bsdf, wo_local: Vec3) -> bool {
+    matches!(bsdf, Bsdf::Dielectric(d) if d.eta != 1.0 && (d.eta > 1.0) == (wo_local.z < 0.0))
 }
 
 /// What one camera path of an iteration produced besides its visibility points (which
@@ -399,4 +414,25 @@ pub fn pilot_gather_depth(
         ray = si.spawn_ray(sc.wi);
     }
     best.map(|(_, d)| d)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use quasar_materials::bsdf::dielectric::DielectricBsdf;
+    use quasar_materials::bsdf::microfacet::TrowbridgeReitz;
+
+    #[test]
+    fn only_a_reflection_back_into_the_denser_side_reflects_inward() {
+        let glass = Bsdf::Dielectric(DielectricBsdf::new(1.5, TrowbridgeReitz::new(0.1)));
+        let (above, below) = (Vec3::new(0.3, 0.0, 0.95).normalize(), Vec3::new(0.3, 0.0, -0.95).normalize());
+        assert!(reflects_inward(&glass, below), "inside a glass whose normal points out");
+        assert!(!reflects_inward(&glass, above));
+        // a surface whose normal points into the glass (relative IOR below 1)
+        let flipped = Bsdf::Dielectric(DielectricBsdf::new(1.0 / 1.5, TrowbridgeReitz::new(0.1)));
+        assert!(reflects_inward(&flipped, above) && !reflects_inward(&flipped, below));
+        // index-matched (a pass-through) surfaces never do
+        let matched = Bsdf::Dielectric(DielectricBsdf::new(1.0, TrowbridgeReitz::new(0.1)));
+        assert!(!reflects_inward(&matched, below) && !reflects_inward(&matched, above));
+    }
 }
