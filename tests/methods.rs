@@ -104,12 +104,15 @@ fn methods_converge_to_pt_on_the_glass_plate() {
 /// pt (65536 spp: the lamp reaches the plate's pixels through two rough interfaces, a hard case
 /// for pt's own reference) in the beauty and every layer but `caustic`. That layer holds here
 /// the lamp seen through a side face, mirrored by the bottom face from inside at grazing
-/// incidence (a narrow lobe there, passed through) and out through another side face: a rare
-/// event for every method that finds it by BSDF sampling, pt included (pt's caustic sum over the
-/// image is 0.37-0.45 from seed to seed at 65536 spp), so after 512 iterations most blocks have
-/// seen none and their sample variance says nothing of the true one. The camera paths do find
-/// it: at pixel (8, 16), a million paths of `vismap` at gather depth 1 give 0.0143 where pt
-/// gives 0.0133 (`indirect`, of which `caustic` is a part, is tested).
+/// incidence and out through another side face. The bottom's reflection back into the glass is
+/// gathered there, but this light is its direct light, which photons never carry and a light
+/// sample cannot reach through the polished side: a rare event for every method that finds it
+/// by BSDF sampling, pt included (pt's caustic sum over the image is 0.37-0.45 from seed to seed
+/// at 65536 spp), so after 512 iterations most blocks have seen none and their sample variance
+/// says nothing of the true one (`adaptive+quasi` fails that layer's block test with a mean
+/// ratio of 0.90 +- 0.28). The camera paths do find it: at pixel (8, 16), a million paths of
+/// `vismap` at gather depth 1 give 0.0143 where pt gives 0.0133 (`indirect`, of which `caustic`
+/// is a part, is tested).
 #[test]
 fn methods_converge_to_pt_on_the_glass_plate_with_a_rough_bottom() {
     let path = shipped("bench/plate-rough-bottom-0.3.toml");
