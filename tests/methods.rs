@@ -221,16 +221,16 @@ fn adaptive_gathers_behind_a_glossy_floor_and_where_its_reflections_escape() {
 }
 
 /// `auto` renders the diffuse Cornell box with pt (the scene analysis: nothing narrow), and
-/// chooses by its pilots (render/pilot.rs) where something is: adaptive+quasi for the glass
+/// chooses by its pilots (render/pilot.rs) where something is: quasi for the glass
 /// plates, whose light reaches the plate's bottom and the floor under it through the narrow top,
 /// pt for diffuse and moderately rough metal objects under a sky, which the path tracer's light
 /// sampling reaches directly (BENCHMARKS.md, "The family": pt 1.4x ahead there).
 #[test]
-fn auto_picks_pt_for_diffuse_and_adaptive_quasi_for_narrow_scenes() {
+fn auto_picks_pt_for_diffuse_and_quasi_for_narrow_scenes() {
     for (scene, expected) in [
         ("cornell-box/cornell-box.toml", "pt"),
-        ("glass-plate/glass-plate.toml", "adaptive+quasi"),
-        ("bench/plate-rough-bottom-0.3.toml", "adaptive+quasi"),
+        ("glass-plate/glass-plate.toml", "quasi"),
+        ("bench/plate-rough-bottom-0.3.toml", "quasi"),
         ("bench/sky-objects.toml", "pt"),
     ] {
         let ov = JobOverrides { width: Some(64), height: Some(64), spp: Some(32), ..Default::default() };

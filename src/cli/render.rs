@@ -204,7 +204,7 @@ impl Args for MethodArgs {
 /// `--method` values and their summaries, for the help text.
 pub fn method_help() -> String {
     let mut s = format!(
-        "Integration method: {} (auto: pt for diffuse scenes; otherwise short pilots of pt and adaptive+quasi, and the one with the lower relative error per ray continues).",
+        "Integration method: {} (auto: pt for diffuse scenes; otherwise short pilots of pt and quasi, and the one with the lower relative error per ray continues).",
         method_names().join(" | ")
     );
     for m in METHODS {

@@ -19,7 +19,7 @@ pub fn methods_table() -> String {
         s += &format!("| `{}` | {} | {} |\n", m.name, m.summary, flags.join(", "));
     }
     s += &format!(
-        "| `auto` (default) | scene analysis (`quasar info`): `pt` for scenes without narrow or specular surfaces; otherwise short pilots of `pt` ({PILOT_SPP} spp) and `adaptive+quasi` ({PILOT_ITERATIONS} iterations), each scored by its relative error times the rays it traced, and the render continues the winner's pilot (`adaptive+quasi` only if it is {BIDIR_MARGIN}x better) | those of the method it runs |\n"
+        "| `auto` (default) | scene analysis (`quasar info`): `pt` for scenes without narrow or specular surfaces; otherwise short pilots of `pt` ({PILOT_SPP} spp) and `quasi` ({PILOT_ITERATIONS} iterations), each scored by its relative error times the rays it traced, and the render continues the winner's pilot (`quasi` only if it is {BIDIR_MARGIN}x better) | those of the method it runs |\n"
     );
     s
 }
