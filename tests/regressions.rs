@@ -83,7 +83,7 @@ const LIGHTGUIDE_CAMERA: &str = "[camera]\nposition = [0.04, 0.06, 0.30]\ntarget
 /// The shipped lightguide (light carried through PMMA by total internal reflection, let out by
 /// the extraction face) seen from 8 cm in front of the rod's middle, so that every pixel looks
 /// through the narrow front face (GGX alpha 0.02) or the polished top face: the methods that pass
-/// narrow lobes through (`auto` picks `adaptive+quasi` here) against `pt`, every layer, from
+/// narrow lobes through (`auto` picks `quasi` here) against `pt`, every layer, from
 /// 16-pixel blocks. Both sides are heavy-tailed in smaller blocks, and the standard errors of a
 /// 16-pixel block are 10-25% of its mean at this budget: the test guards against gross errors (the
 /// quasi-specular bugs above were 80-100%, `adaptive` gathering on narrow vertices behind the
@@ -124,7 +124,7 @@ fn lightguide_front_under_the_narrow_lobe_methods() {
 /// blocks for 21 of 21 seeds, its worst block always on the side of `auto` being brighter (+1.1
 /// to +3.2%, z up to +4.35). `auto` at its defaults on the lightguide is checked against
 /// Mitsuba's particle tracer instead (`tests/crosscheck/lightguide_ptracer.py`, run by
-/// `.ci/run`), and the method it picks there, `adaptive+quasi` (asserted here), against `pt`
+/// `.ci/run`), and the method it picks there, `quasi` (asserted here), against `pt`
 /// from the rod's front by the test above.
 #[test]
 fn auto_at_default_settings_converges_on_the_shipped_scenes() {
@@ -139,12 +139,12 @@ fn auto_at_default_settings_converges_on_the_shipped_scenes() {
         }
         .with_param("iterations", 256u32);
         let img = render_file(&path, &ov);
-        assert_eq!(img.image.meta("method"), Some("adaptive+quasi"), "{scene}");
+        assert_eq!(img.image.meta("method"), Some("quasi"), "{scene}");
         assert_converges(&format!("{scene} auto"), &img, &reference, &[Quantity::Beauty]);
     }
     // the lightguide's pick, which the particle-tracer check relies on
     let ov = quasar::render::job::JobOverrides { width: Some(8), height: Some(6), ..Default::default() }
         .with_param("iterations", 1u32);
     let img = render_file(&shipped("lightguide/lightguide.toml"), &ov);
-    assert_eq!(img.image.meta("method"), Some("adaptive+quasi"), "lightguide");
+    assert_eq!(img.image.meta("method"), Some("quasi"), "lightguide");
 }
