@@ -435,4 +435,29 @@ mod tests {
         let matched = Bsdf::Dielectric(DielectricBsdf::new(1.0, TrowbridgeReitz::new(0.1)));
         assert!(!reflects_inward(&matched, below) && !reflects_inward(&matched, above));
     }
+
+    #[test]
+    fn the_rough_bottom_of_a_plate_seen_from_inside_gathers_its_reflection() {
+        // the alpha 0.1 bottom of the benchmark plate, hit from inside the glass: both of its
+        // lobes are narrow there (it was passed through whole), but its reflection goes back
+        // into the glass, so it is gathered and only the refraction's hemisphere is continued
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bench/plate-rough-bottom-0.1.toml");
+        let text = std::fs::read_to_string(&path).unwrap();
+        let desc =
+            quasar_importers::parse_toml_scene(&text, &path, &quasar_importers::ImportOptions::default()).unwrap();
+        let scene = Scene::compile(&desc).unwrap();
+        let dir = Vec3::new(0.3, -1.0, 0.1).normalize();
+        let si = scene.intersect(&Ray::new(Vec3::new(0.0, 0.011, 0.0), dir)).expect("the plate's bottom");
+        assert!((si.p.y - 0.001).abs() < 1e-4, "hit at {:?}", si.p);
+        let mut wl = SampledWavelengths::sample_visible(0.5);
+        let bsdf = scene.bsdf_at(&si, &mut wl);
+        let wo_local = si.frame().to_local(-dir);
+        let (reflection, transmission) = scene.non_uniformity()[si.material as usize].lobes_at(wo_local.z);
+        assert!(reflection > NARROW_KAPPA && transmission > NARROW_KAPPA, "R {reflection} T {transmission}");
+        let rule =
+            GatherRule { depth: 0, cone_cos: Some(10f32.to_radians().cos()), max_specular: 16, pass_narrow: false };
+        let t = rule.treat(&scene, &si, &bsdf, wo_local);
+        assert!(!t.pass_through && t.cone.is_some());
+        assert_eq!(t.kappa, reflection, "the gathered lobe is the reflection");
+    }
 }
