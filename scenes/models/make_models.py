@@ -74,19 +74,27 @@ open('scenes/models/cornell-box-original.mtl','w').write(mtl)
 # 3. a unit box as glTF with an embedded (data URI) buffer, no camera, no light and COLOR_0
 # vertex colours, in the style of the Khronos Box / BoxVertexColors samples
 import base64, json, struct
-pos, nrm, col, idx = [], [], [], []
-for axis in range(3):
-    for sign in (1.0, -1.0):
-        n = [0.0, 0.0, 0.0]; n[axis] = sign
-        u = [0.0, 0.0, 0.0]; u[(axis + 1) % 3] = 1.0
-        v = [0.0, 0.0, 0.0]; v[(axis + 2) % 3] = 1.0
-        if sign < 0: u, v = v, u
-        base = len(pos)
-        for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
-            pos.append([0.5 * n[k] + 0.5 * a * u[k] + 0.5 * b * v[k] for k in range(3)])
-            nrm.append(n)
-            col.append([0.5 + 0.5 * n[0], 0.5 + 0.5 * n[1], 0.5 + 0.5 * n[2]])
-        idx += [base, base + 1, base + 2, base, base + 2, base + 3]
+
+def box(c, s):
+    """An axis-aligned box centred at `c` with sides `s`: six outward quads (positions, normals,
+    indices, and UVs from x and z)."""
+    p, n, ix = [], [], []
+    for axis in range(3):
+        for sign in (1.0, -1.0):
+            nn = [0.0, 0.0, 0.0]; nn[axis] = sign
+            u = [0.0, 0.0, 0.0]; u[(axis + 1) % 3] = 1.0
+            v = [0.0, 0.0, 0.0]; v[(axis + 2) % 3] = 1.0
+            if sign < 0: u, v = v, u
+            b = len(p)
+            for a, bb in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
+                p.append(tuple(c[k] + 0.5 * s[k] * (nn[k] + a * u[k] + bb * v[k]) for k in range(3)))
+                n.append(tuple(nn))
+            ix += [b, b + 1, b + 2, b, b + 2, b + 3]
+    uv = [(q[0] - c[0] + 0.5, q[2] - c[2] + 0.5) for q in p]
+    return p, n, ix, uv
+
+pos, nrm, idx, _ = box((0.0, 0.0, 0.0), (1.0, 1.0, 1.0))
+col = [[0.5 + 0.5 * n[0], 0.5 + 0.5 * n[1], 0.5 + 0.5 * n[2]] for n in nrm]
 blob = b''.join(struct.pack('<3f', *p) for p in pos)
 blob += b''.join(struct.pack('<3f', *p) for p in nrm)
 blob += b''.join(struct.pack('<3f', *p) for p in col)
@@ -156,23 +164,28 @@ meshes = [
     ('lamp', quad([(-2.5, 3.9, -1.0), (2.5, 3.9, -1.0), (2.5, 3.9, 1.0), (-2.5, 3.9, 1.0)], (0, -1, 0),
                   [(0, 0), (1, 0), (1, 1), (0, 1)]), 5),
 ]
-blob, views, accessors, prims = b'', [], [], []
-def add(data, target, comp, typ, count, mn=None, mx=None):
-    global blob
-    while len(blob) % 4: blob += b'\x00'
-    views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": len(data), "target": target})
-    blob += data
-    a = {"bufferView": len(views) - 1, "componentType": comp, "count": count, "type": typ}
-    if mn is not None: a["min"], a["max"] = mn, mx
-    accessors.append(a)
-    return len(accessors) - 1
-for name, (p, n, ix, uv), mat in meshes:
-    attrs = {"POSITION": add(b''.join(struct.pack('<3f', *v) for v in p), 34962, 5126, "VEC3", len(p),
-                             [min(v[k] for v in p) for k in range(3)], [max(v[k] for v in p) for k in range(3)]),
-             "NORMAL": add(b''.join(struct.pack('<3f', *v) for v in n), 34962, 5126, "VEC3", len(n))}
-    if uv: attrs["TEXCOORD_0"] = add(b''.join(struct.pack('<2f', *v) for v in uv), 34962, 5126, "VEC2", len(uv))
-    prims.append({"name": name, "primitives": [{"attributes": attrs, "material": mat,
-                  "indices": add(b''.join(struct.pack('<I', i) for i in ix), 34963, 5125, "SCALAR", len(ix))}]})
+def pack_meshes(meshes):
+    """Packs [(name, (positions, normals, indices, uvs or None), material)] into one glTF buffer:
+    returns (buffer bytes, bufferViews, accessors, meshes)."""
+    blob, views, accessors, prims = b'', [], [], []
+    def add(data, target, comp, typ, count, mn=None, mx=None):
+        nonlocal blob
+        while len(blob) % 4: blob += b'\x00'
+        views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": len(data), "target": target})
+        blob += data
+        a = {"bufferView": len(views) - 1, "componentType": comp, "count": count, "type": typ}
+        if mn is not None: a["min"], a["max"] = mn, mx
+        accessors.append(a)
+        return len(accessors) - 1
+    for name, (p, n, ix, uv), mat in meshes:
+        attrs = {"POSITION": add(b''.join(struct.pack('<3f', *v) for v in p), 34962, 5126, "VEC3", len(p),
+                                 [min(v[k] for v in p) for k in range(3)], [max(v[k] for v in p) for k in range(3)]),
+                 "NORMAL": add(b''.join(struct.pack('<3f', *v) for v in n), 34962, 5126, "VEC3", len(n))}
+        if uv: attrs["TEXCOORD_0"] = add(b''.join(struct.pack('<2f', *v) for v in uv), 34962, 5126, "VEC2", len(uv))
+        prims.append({"name": name, "primitives": [{"attributes": attrs, "material": mat,
+                      "indices": add(b''.join(struct.pack('<I', i) for i in ix), 34963, 5125, "SCALAR", len(ix))}]})
+    return blob, views, accessors, prims
+blob, views, accessors, prims = pack_meshes(meshes)
 # 64 x 16 texels: black but for two warm "lamp" stripes
 lamp = png_rgba(64, 16, lambda x, y: (255, 200, 150, 255) if 4 <= y < 12 and (6 <= x < 22 or 42 <= x < 58) else (0, 0, 0, 255))
 # 32 x 32 tangent-space normals of gentle bumps (orange peel)
@@ -220,22 +233,6 @@ open('scenes/models/coated-paint-and-lamp.gltf', 'w').write(json.dumps(doc, inde
 # (KHR_materials_transmission, _ior, _volume with an attenuation colour), three sign tiles on the
 # back wall whose emission differs only by KHR_materials_emissive_strength (1, 4, 16), and an
 # untextured ceiling panel as the main light. Sheen and transmission in extensionsRequired. No camera.
-def box(c, s):
-    p, n, ix = [], [], []
-    for axis in range(3):
-        for sign in (1.0, -1.0):
-            nn = [0.0, 0.0, 0.0]; nn[axis] = sign
-            u = [0.0, 0.0, 0.0]; u[(axis + 1) % 3] = 1.0
-            v = [0.0, 0.0, 0.0]; v[(axis + 2) % 3] = 1.0
-            if sign < 0: u, v = v, u
-            b = len(p)
-            for a, bb in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
-                p.append(tuple(c[k] + 0.5 * s[k] * (nn[k] + a * u[k] + bb * v[k]) for k in range(3)))
-                n.append(tuple(nn))
-            ix += [b, b + 1, b + 2, b, b + 2, b + 3]
-    uv = [(q[0] - c[0] + 0.5, q[2] - c[2] + 0.5) for q in p]
-    return p, n, ix, uv
-
 meshes = [
     ('ground', quad([(-3, 0, 2), (3, 0, 2), (3, 0, -2), (-3, 0, -2)], (0, 1, 0)), 0),
     ('backdrop', quad([(-3, 0, -2), (3, 0, -2), (3, 4, -2), (-3, 4, -2)], (0, 0, 1)), 0),
@@ -251,14 +248,7 @@ meshes = [
     ('sign_16', quad([(0.7, 2.2, -1.99), (1.5, 2.2, -1.99), (1.5, 2.8, -1.99), (0.7, 2.8, -1.99)], (0, 0, 1)), 8),
     ('ceiling_panel', quad([(-2, 3.9, -1.0), (2, 3.9, -1.0), (2, 3.9, 1.0), (-2, 3.9, 1.0)], (0, -1, 0)), 9),
 ]
-blob, views, accessors, prims = b'', [], [], []
-for name, (p, n, ix, uv), mat in meshes:
-    attrs = {"POSITION": add(b''.join(struct.pack('<3f', *v) for v in p), 34962, 5126, "VEC3", len(p),
-                             [min(v[k] for v in p) for k in range(3)], [max(v[k] for v in p) for k in range(3)]),
-             "NORMAL": add(b''.join(struct.pack('<3f', *v) for v in n), 34962, 5126, "VEC3", len(n))}
-    if uv: attrs["TEXCOORD_0"] = add(b''.join(struct.pack('<2f', *v) for v in uv), 34962, 5126, "VEC2", len(uv))
-    prims.append({"name": name, "primitives": [{"attributes": attrs, "material": mat,
-                  "indices": add(b''.join(struct.pack('<I', i) for i in ix), 34963, 5125, "SCALAR", len(ix))}]})
+blob, views, accessors, prims = pack_meshes(meshes)
 # the sheen colour: gold stripes on white, 32 x 32; the sheen roughness (alpha): 0.3 and 0.8 checks
 sheen_color = png_rgba(32, 32, lambda x, y: (255, 200, 90, 255) if (x // 4) % 2 else (255, 255, 255, 255))
 sheen_rough = png_rgba(32, 32, lambda x, y: (255, 255, 255, 77 if ((x // 8) + (y // 8)) % 2 else 204))
