@@ -396,7 +396,6 @@ impl IterationResult<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use quasar_importers::{ImportOptions, parse_toml_scene};
 
     #[test]
     fn the_radius_pilots_counts_are_the_photons_an_iteration_gathers() {
@@ -404,10 +403,7 @@ mod tests {
         // diffuse surfaces without a cone: points with a cone are covered by
         // `arrival`'s test) with its photon pass kept as sums and as counts: every point counts
         // exactly the photons it summed, and the counting pass evaluates nothing
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/glossy-room/glossy-room.toml");
-        let text = std::fs::read_to_string(&path).unwrap();
-        let desc = parse_toml_scene(&text, &path, &ImportOptions::default()).unwrap();
-        let scene = Scene::compile(&desc).unwrap();
+        let (desc, scene) = crate::integrator::bidir::shipped_scene("glossy-room/glossy-room.toml");
         let camera = Camera::new(&desc.camera, 40, 30).unwrap();
         let rule =
             GatherRule { depth: 0, cone_cos: Some(10f32.to_radians().cos()), max_specular: 16, pass_narrow: false };

@@ -25,6 +25,17 @@ mod ranges;
 pub mod settings;
 pub mod visibility_point;
 
+/// A shipped scene (a path under `scenes/`) as its description and the compiled scene, for the
+/// unit tests of the passes.
+#[cfg(test)]
+pub(crate) fn shipped_scene(rel: &str) -> (quasar_importers::SceneDesc, crate::core::scene::Scene) {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(rel);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let desc = quasar_importers::parse_toml_scene(&text, &path, &quasar_importers::ImportOptions::default()).unwrap();
+    let scene = crate::core::scene::Scene::compile(&desc).unwrap();
+    (desc, scene)
+}
+
 /// Most pixels or points in one parallel task of a per-pixel or per-point loop. rayon cuts an
 /// indexed iterator into about four pieces per thread and cuts a piece further only when another
 /// thread steals it before it starts, so work concentrated in one piece (the disks that received

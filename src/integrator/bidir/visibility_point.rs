@@ -441,11 +441,7 @@ mod tests {
         // the alpha 0.1 bottom of the benchmark plate, hit from inside the glass: both of its
         // lobes are narrow there (it was passed through whole), but its reflection goes back
         // into the glass, so it is gathered and only the refraction's hemisphere is continued
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/bench/plate-rough-bottom-0.1.toml");
-        let text = std::fs::read_to_string(&path).unwrap();
-        let desc =
-            quasar_importers::parse_toml_scene(&text, &path, &quasar_importers::ImportOptions::default()).unwrap();
-        let scene = Scene::compile(&desc).unwrap();
+        let (_, scene) = crate::integrator::bidir::shipped_scene("bench/plate-rough-bottom-0.1.toml");
         let dir = Vec3::new(0.3, -1.0, 0.1).normalize();
         let si = scene.intersect(&Ray::new(Vec3::new(0.0, 0.011, 0.0), dir)).expect("the plate's bottom");
         assert!((si.p.y - 0.001).abs() < 1e-4, "hit at {:?}", si.p);
